@@ -1,0 +1,24 @@
+"""bearingfw: dynamic analysis of bridges whose bearings are interchangeable models."""
+
+from importlib.metadata import PackageNotFoundError, version
+
+from bearingfw.parameters import ParameterError, dims_parameter, parameter
+from bearingfw.plugins import create_law, get_registry, hookimpl
+from bearingfw.protocol import BearingLaw, LawResponse
+
+try:
+    __version__ = version("bearingfw")
+except PackageNotFoundError:  # running from a source tree that was not installed
+    __version__ = "0+unknown"
+
+__all__ = [
+    "BearingLaw",
+    "LawResponse",
+    "ParameterError",
+    "__version__",
+    "create_law",
+    "dims_parameter",
+    "get_registry",
+    "hookimpl",
+    "parameter",
+]

@@ -1,0 +1,6 @@
+"""Built-in bearing laws. Use them by name through :func:`bearingfw.create_law`."""
+
+from bearingfw.laws.coulomb import RegularizedCoulomb
+from bearingfw.laws.elastic import Fixed, Frictionless, LinearSpring
+
+__all__ = ["Fixed", "Frictionless", "LinearSpring", "RegularizedCoulomb"]

@@ -1,0 +1,59 @@
+"""Regularized (elastoplastic) Coulomb friction: the paper's M2, section 2.5, eqs. (3)-(6).
+
+The relative displacement splits into an elastic stick part and an irreversible slip,
+``u = u_e + u_p``. The force is ``F = k (u - u_p)`` while ``|F| < mu N``; on the slip surface
+``|F| = mu N`` the slip grows along ``F`` (associated rule). With N held constant and one
+direction this is an elastic-perfectly-plastic spring with yield force ``mu N``.
+
+Integration is a backward-Euler return mapping, which has a closed form because the surface is a
+circle (a pair of points in 1-D): the trial force ``k (u - u_p,n)`` is scaled back onto the
+circle. The tangent is the derivative of that map, ``k`` in stick and
+``k (mu N / |F_trial|) (I - n n^T)`` in slip (zero in 1-D), so Newton converges quadratically.
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+import attrs
+import numpy as np
+
+from bearingfw.parameters import dims_parameter, parameter
+from bearingfw.protocol import LawResponse
+
+
+@attrs.frozen
+class RegularizedCoulomb:
+    """Stick stiffness ``k`` up to the friction force ``mu N``, then sliding.
+
+    State: ``{"slip": (n, dims)}``, the accumulated slip ``u_p`` in metres. ``N`` is read on every
+    call; ``N <= 0`` (no contact or uplift) leaves no friction capacity.
+    """
+
+    name: ClassVar[str] = "regularized-coulomb"
+    rigid: ClassVar[bool] = False
+    k: float = parameter(low=0.0, low_open=True, unit="N/m", doc="stick stiffness (K_s)")
+    mu: float = parameter(low=0.0, high=1.0, high_open=True, doc="friction coefficient")
+    dims: int = dims_parameter()
+
+    def initial_state(self, n: int) -> dict:
+        return {"slip": np.zeros((n, self.dims))}
+
+    def force_bound(self, normal_force) -> np.ndarray:
+        return self.mu * np.maximum(np.asarray(normal_force, dtype=float), 0.0)
+
+    def respond(self, state, u, normal_force, dt) -> LawResponse:
+        u = np.asarray(u, dtype=float)
+        slip = state["slip"]
+        capacity = self.force_bound(normal_force)
+        trial = self.k * (u - slip)
+        trial_norm = np.sqrt(np.einsum("ij,ij->i", trial, trial))
+        sliding = trial_norm > capacity
+        safe_norm = np.where(sliding, trial_norm, 1.0)
+        scale = np.where(sliding, capacity / safe_norm, 1.0)
+        force = trial * scale[:, None]
+        new_slip = np.where(sliding[:, None], u - force / self.k, slip)
+        direction = trial / safe_norm[:, None]
+        projector = np.eye(self.dims) - sliding[:, None, None] * np.einsum("ij,ik->ijk", direction, direction)
+        tangent = self.k * scale[:, None, None] * projector
+        return LawResponse(force, tangent, {"slip": new_slip})

@@ -1,0 +1,96 @@
+"""Validated parameters for user-facing attrs classes (laws, and later model objects).
+
+``parameter(...)`` returns an attrs field that accepts any real number (int, float, numpy
+scalar; not bool, not str), stores it as ``float``, and rejects values outside the allowed
+range with a :class:`ParameterError` that names the parameter and the range. The range and unit
+are kept in the field's metadata so that ``bearingfw plugins`` can list them.
+
+Example::
+
+    @attrs.frozen
+    class MyLaw:
+        k: float = parameter(low=0.0, low_open=True, unit="N/m", doc="stiffness")
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from typing import Any
+
+import attrs
+
+__all__ = ["ParameterError", "parameter", "dims_parameter", "describe_range"]
+
+
+class ParameterError(ValueError):
+    """A parameter is missing, unknown, of the wrong type or outside its allowed range."""
+
+
+def describe_range(name: str, low, high, low_open: bool, high_open: bool) -> str:
+    """Human-readable allowed range, e.g. ``0 <= mu < 1`` or ``k > 0``."""
+    left = "" if low is None else f"{low:g} {'<' if low_open else '<='} "
+    right = "" if high is None else f" {'<' if high_open else '<='} {high:g}"
+    if low is not None and high is None:
+        return f"{name} {'>' if low_open else '>='} {low:g}"
+    if low is None and high is None:
+        return f"{name} finite"
+    return f"{left}{name}{right}"
+
+
+def _to_float(value: Any) -> Any:
+    # Leave anything that is not a real number untouched so that the validator can name it.
+    if isinstance(value, numbers.Real) and not isinstance(value, bool):
+        return float(value)
+    return value
+
+
+def parameter(
+    *,
+    low: float | None = None,
+    high: float | None = None,
+    low_open: bool = False,
+    high_open: bool = False,
+    default: Any = attrs.NOTHING,
+    unit: str = "",
+    doc: str = "",
+):
+    """An attrs field for a finite real parameter within ``[low, high]`` (ends open on request)."""
+
+    def check(instance, attribute, value):
+        name = attribute.name
+        allowed = describe_range(name, low, high, low_open, high_open)
+        owner = getattr(instance, "name", type(instance).__name__)
+        if not isinstance(value, float):
+            raise ParameterError(
+                f"{owner}: parameter {name!r} must be a real number ({allowed}), "
+                f"got {type(value).__name__} {value!r}"
+            )
+        bad = not math.isfinite(value)
+        bad |= low is not None and (value <= low if low_open else value < low)
+        bad |= high is not None and (value >= high if high_open else value > high)
+        if bad:
+            raise ParameterError(f"{owner}: parameter {name!r} = {value!r} is outside the allowed range {allowed}")
+
+    return attrs.field(
+        default=default,
+        converter=_to_float,
+        validator=check,
+        # "{name}" is filled in by whoever lists the parameter under its own name.
+        metadata={"range": describe_range("{name}", low, high, low_open, high_open), "unit": unit, "doc": doc},
+    )
+
+
+def dims_parameter(default: int = 1):
+    """The ``dims`` field of a law: 1 (guided bearing) or 2 (free sliding), set by the connector."""
+
+    def check(instance, attribute, value):
+        owner = getattr(instance, "name", type(instance).__name__)
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value not in (1, 2):
+            raise ParameterError(f"{owner}: parameter 'dims' must be 1 or 2, got {value!r}")
+
+    return attrs.field(
+        default=default,
+        validator=check,
+        metadata={"range": "1 or 2", "unit": "", "doc": "shear directions governed together (set by the connector kind)"},
+    )

@@ -1,0 +1,1 @@
+"""Command-line interface (the top layer: it may import every other one)."""

@@ -54,8 +54,13 @@ def parameter(
     default: Any = attrs.NOTHING,
     unit: str = "",
     doc: str = "",
+    typical: float | None = None,
 ):
-    """An attrs field for a finite real parameter within ``[low, high]`` (ends open on request)."""
+    """An attrs field for a finite real parameter within ``[low, high]`` (ends open on request).
+
+    ``typical`` is a representative magnitude (e.g. 4e8 for a bearing's stiffness in N/m); the
+    hypothesis strategies of :mod:`bearingfw.testing` draw around it when the range is open.
+    """
 
     def check(instance, attribute, value):
         name = attribute.name
@@ -77,7 +82,13 @@ def parameter(
         converter=_to_float,
         validator=check,
         # "{name}" is filled in by whoever lists the parameter under its own name.
-        metadata={"range": describe_range("{name}", low, high, low_open, high_open), "unit": unit, "doc": doc},
+        metadata={
+            "range": describe_range("{name}", low, high, low_open, high_open),
+            "unit": unit,
+            "doc": doc,
+            "bounds": (low, high, low_open, high_open),
+            "typical": typical,
+        },
     )
 
 

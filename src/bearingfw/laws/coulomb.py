@@ -32,8 +32,8 @@ class RegularizedCoulomb:
 
     name: ClassVar[str] = "regularized-coulomb"
     rigid: ClassVar[bool] = False
-    k: float = parameter(low=0.0, low_open=True, unit="N/m", doc="stick stiffness (K_s)")
-    mu: float = parameter(low=0.0, high=1.0, high_open=True, doc="friction coefficient")
+    k: float = parameter(low=0.0, low_open=True, unit="N/m", doc="stick stiffness (K_s)", typical=4e8)
+    mu: float = parameter(low=0.0, high=1.0, high_open=True, doc="friction coefficient", typical=0.04)
     dims: int = dims_parameter()
 
     def initial_state(self, n: int) -> dict:

@@ -48,7 +48,7 @@ class LinearSpring:
 
     name: ClassVar[str] = "linear-spring"
     rigid: ClassVar[bool] = False
-    k: float = parameter(low=0.0, low_open=True, unit="N/m", doc="spring stiffness")
+    k: float = parameter(low=0.0, low_open=True, unit="N/m", doc="spring stiffness", typical=4e8)
     dims: int = dims_parameter()
 
     def initial_state(self, n: int) -> dict:

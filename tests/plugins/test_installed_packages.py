@@ -1,0 +1,129 @@
+"""Real packages, installed with pip, extend bearingfw through the entry-point group alone.
+
+Each package is pip-installed into its own target folder (no change to the environment the
+tests run in) and used from a fresh interpreter that has that folder on its path.
+"""
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+
+THROWAWAY_LAW = '''
+import numpy as np
+from bearingfw import LawResponse, hookimpl
+
+
+class TanhSpring:
+    """F = F_max tanh(k u / F_max): smooth saturation. A plain class."""
+
+    name = "tanh-spring"
+    dims = 1
+    rigid = False
+
+    def __init__(self, k, f_max):
+        self.k, self.f_max = float(k), float(f_max)
+
+    def initial_state(self, n):
+        return {}
+
+    def force_bound(self, normal_force):
+        return np.full(np.shape(normal_force), self.f_max)
+
+    def respond(self, state, u, normal_force, dt):
+        x = self.k * np.asarray(u, dtype=float) / self.f_max
+        return LawResponse(self.f_max * np.tanh(x), (self.k / np.cosh(x) ** 2)[:, :, None], state)
+
+
+@hookimpl
+def bearingfw_register_laws():
+    return [TanhSpring]
+'''
+
+
+def pip_install_into(target: Path, package: Path) -> None:
+    subprocess.run(
+        [sys.executable, "-m", "pip", "install", "--quiet", "--no-deps", "--no-build-isolation", "--target", str(target), str(package)],
+        check=True,
+        capture_output=True,
+    )
+
+
+def run_python(target: Path, *args: str) -> str:
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(target), os.environ.get("PYTHONPATH", "")])}
+    done = subprocess.run([sys.executable, *args], env=env, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    return done.stdout
+
+
+@pytest.fixture(scope="module")
+def throwaway_site(tmp_path_factory):
+    root = tmp_path_factory.mktemp("throwaway")
+    package = root / "package"
+    (package / "tanh_spring_plugin").mkdir(parents=True)
+    (package / "tanh_spring_plugin" / "__init__.py").write_text(THROWAWAY_LAW)
+    (package / "pyproject.toml").write_text(
+        textwrap.dedent(
+            """
+            [build-system]
+            requires = ["setuptools>=68"]
+            build-backend = "setuptools.build_meta"
+
+            [project]
+            name = "throwaway-tanh-spring"
+            version = "0.0.1"
+
+            [project.entry-points.bearingfw]
+            tanh = "tanh_spring_plugin"
+
+            [tool.setuptools]
+            packages = ["tanh_spring_plugin"]
+            """
+        )
+    )
+    site = root / "site"
+    pip_install_into(site, package)
+    return site
+
+
+def listed_laws(site: Path) -> dict:
+    listing = json.loads(run_python(site, "-m", "bearingfw", "plugins", "--json"))
+    return {law["name"]: law for law in listing["laws"]}, listing["broken"]
+
+
+def test_a_pip_installed_law_appears_in_bearingfw_plugins(throwaway_site):
+    laws, broken = listed_laws(throwaway_site)
+    assert broken == []
+    tanh = laws["tanh-spring"]
+    assert (tanh["distribution"], tanh["version"], tanh["plugin"]) == ("throwaway-tanh-spring", "0.0.1", "tanh")
+    assert [p["name"] for p in tanh["parameters"]] == ["k", "f_max"]
+    assert {"frictionless", "fixed", "linear-spring", "regularized-coulomb"} <= set(laws)
+
+
+def test_a_pip_installed_law_works_with_create_law_drive_and_the_conformance_suite(throwaway_site):
+    script = """
+import json, numpy as np
+from bearingfw import create_law
+from bearingfw.testing import check_law, drive
+law = create_law("tanh-spring", k=1e6, f_max=1e3)
+check_law(law)
+print(json.dumps(drive(law, [1e-4, 5e-3, -5e-3]).tolist()))
+"""
+    forces = json.loads(run_python(throwaway_site, "-c", script))
+    expected = [1e3 * __import__("math").tanh(1e6 * u / 1e3) for u in (1e-4, 5e-3, -5e-3)]
+    assert forces == pytest.approx(expected, rel=1e-12)
+
+
+def test_the_example_plugin_package_installs_and_passes_its_own_tests(tmp_path):
+    pip_install_into(tmp_path, REPO / "examples" / "custom-law-plugin")
+    laws, broken = listed_laws(tmp_path)
+    assert broken == []
+    assert laws["viscous-damper"]["distribution"] == "bearingfw-viscous-damper"
+    tests = REPO / "examples" / "custom-law-plugin" / "tests"
+    run_python(tmp_path, "-m", "pytest", "-q", "-p", "no:cacheprovider", str(tests))

@@ -64,7 +64,7 @@ class Context:
         return normal_force_histories(steps, *self.normal_force_range, n=n)
 
     def hypothesis(self, strategy: st.SearchStrategy):
-        """Decorate a one-argument property so that it runs over ``strategy``."""
+        """Decorate a one-argument property: run it at once over examples drawn from ``strategy``."""
 
         def decorate(body: Callable):
             runner = settings(

@@ -10,9 +10,9 @@ import argparse
 import sys
 
 from bearingfw import __version__
-from bearingfw.cli import plugins
+from bearingfw.cli import plugins, record
 
-COMMANDS = [plugins]
+COMMANDS = [plugins, record]
 
 
 def build_parser() -> argparse.ArgumentParser:

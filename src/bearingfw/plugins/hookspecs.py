@@ -32,3 +32,39 @@ def bearingfw_register_laws():
     law's parameters; attrs fields made with :func:`bearingfw.parameter` also carry their
     allowed range and unit into ``bearingfw plugins``.
     """
+
+
+@hookspec
+def bearingfw_register_record_readers():
+    """Return a list of ground-motion record readers, one per file format.
+
+    A reader is a :class:`bearingfw.plugins.contracts.RecordReader` (re-exported as
+    ``bearingfw.motion.RecordReader``) or any object with the same members:
+
+    - ``name`` (str): the registry key, unique across all plugins, e.g. ``"peer-at2"``; users
+      choose a reader by it (``bearingfw record info --format NAME``);
+    - ``suffixes`` (tuple of str): lower-case file-name endings with the dot, e.g. ``(".at2",)``;
+    - ``read(path, *, dt=None, units=None)``: returns a list of :class:`bearingfw.motion.Trace`
+      (values, dt in s, units ``"g"``, ``"m/s^2"`` or ``"cm/s^2"``, label), one per acceleration
+      component, in the file's order; ``dt`` and ``units`` are the user's overrides for formats
+      that do not state them. On a malformed file it raises
+      :class:`bearingfw.motion.RecordFormatError` naming the file and the line;
+    - optionally ``sniff(path) -> bool``: whether the file looks like this format (used to
+      confirm a suffix match, and for files whose suffix no reader claims);
+    - optionally ``description`` (str): one line for ``bearingfw plugins``.
+
+    bearingfw converts the units to m/s^2, resamples to a common time step, pads unequal
+    lengths with zeros and assembles the components (horizontal 1, horizontal 2, vertical).
+    """
+
+
+@hookspec
+def bearingfw_register_intensity_scales():
+    """Return a list of :class:`bearingfw.plugins.contracts.IntensityScale` objects.
+
+    A scale is data, not code (``bearingfw.motion.IntensityScale``, the same class): a unique
+    ``name``, the degree labels lowest first, the t_Ha breakpoints (s) and, per degree, the
+    inclusive upper bound of PGA_H10 (m/s^2) at each breakpoint (linear in between, constant
+    outside). The constructor checks the table (shapes, positive bounds increasing from degree
+    to degree); a scale that fails is reported by ``bearingfw plugins``.
+    """

@@ -23,6 +23,7 @@ import pluggy
 
 from bearingfw.parameters import ParameterError
 from bearingfw.plugins import hookspecs
+from bearingfw.plugins.contracts import IntensityScale
 from bearingfw.protocol import PROTOCOL_MEMBERS, BearingLaw
 
 ENTRY_POINT_GROUP = "bearingfw"
@@ -62,11 +63,16 @@ class BrokenPlugin:
 
 @attrs.frozen
 class Registry:
-    """What the loaded plugins contribute: ``laws`` maps a law name to its entry."""
+    """What the loaded plugins contribute: ``laws`` maps a law name to its entry.
+
+    ``record_readers`` and ``intensity_scales`` map a reader's or a scale's name to its entry.
+    """
 
     laws: dict[str, Entry]
     broken: tuple[BrokenPlugin, ...]
     plugin_manager: pluggy.PluginManager = attrs.field(repr=False, eq=False)
+    record_readers: dict[str, Entry] = attrs.field(factory=dict)
+    intensity_scales: dict[str, Entry] = attrs.field(factory=dict)
 
     def law_class(self, name: str) -> type:
         try:
@@ -91,6 +97,33 @@ def _law_key(cls: Any) -> str:
         if not callable(getattr(cls, method)):
             raise TypeError(f"law class {cls.__qualname__}: {method!r} must be a method")
     return name
+
+
+def _reader_key(reader: Any) -> str:
+    """Check a contributed record reader (duck-typed, see the hookspec) and return its name."""
+    name = getattr(reader, "name", None)
+    if not isinstance(name, str) or not name:
+        raise TypeError(f"record reader {reader!r}: 'name' must be a non-empty string")
+    suffixes = getattr(reader, "suffixes", None)
+    if isinstance(suffixes, str) or not isinstance(suffixes, (tuple, list)) or not all(
+        isinstance(s, str) and s.startswith(".") for s in suffixes
+    ):
+        raise TypeError(f"record reader {name!r}: 'suffixes' must be a tuple of endings like '.at2', got {suffixes!r}")
+    if not callable(getattr(reader, "read", None)):
+        raise TypeError(f"record reader {name!r}: 'read' must be callable")
+    sniff = getattr(reader, "sniff", None)
+    if sniff is not None and not callable(sniff):
+        raise TypeError(f"record reader {name!r}: 'sniff' must be callable or None")
+    return name
+
+
+def _scale_key(scale: Any) -> str:
+    """Check a contributed intensity scale (validated data, see the hookspec) and return its name."""
+    if not isinstance(scale, IntensityScale):
+        raise TypeError(
+            f"bearingfw_register_intensity_scales must return bearingfw.motion.IntensityScale objects, got {scale!r}"
+        )
+    return scale.name
 
 
 def _constructor_parameter_names(cls: type) -> list[str]:
@@ -182,8 +215,26 @@ def load_registry(entry_points: Iterable[metadata.EntryPoint] | None = None) -> 
             broken.append(BrokenPlugin(ep.name, f"could not load {ep.value!r}: {_short_error(exc)}", origin.distribution))
             continue
         origins[ep.name] = origin
+    broken.extend(_unknown_hooks(pm, origins))
     laws = _collect(pm, "bearingfw_register_laws", _law_key, origins, broken)
-    return Registry(laws=laws, broken=tuple(broken), plugin_manager=pm)
+    readers = _collect(pm, "bearingfw_register_record_readers", _reader_key, origins, broken)
+    scales = _collect(pm, "bearingfw_register_intensity_scales", _scale_key, origins, broken)
+    return Registry(
+        laws=laws, broken=tuple(broken), plugin_manager=pm, record_readers=readers, intensity_scales=scales
+    )
+
+
+def _unknown_hooks(pm: pluggy.PluginManager, origins: dict[str, Origin]) -> list[BrokenPlugin]:
+    """A hook implementation whose name matches no hookspec is a typo that would fail silently."""
+    problems = []
+    for name, caller in vars(pm.hook).items():
+        if isinstance(caller, pluggy.HookCaller) and not caller.has_spec():
+            for impl in caller.get_hookimpls():
+                origin = origins[impl.plugin_name]
+                problems.append(
+                    BrokenPlugin(impl.plugin_name, f"implements unknown hook {name!r} (ignored)", origin.distribution)
+                )
+    return problems
 
 
 _registry: Registry | None = None
@@ -227,7 +278,7 @@ def describe_parameters(cls: type) -> list[dict[str, Any]]:
     return described
 
 
-def create_law(name: str, registry: Registry | None = None, **params: Any) -> BearingLaw:
+def create_law(name: str, /, *, registry: Registry | None = None, **params: Any) -> BearingLaw:
     """Build the law registered as ``name`` with ``params``.
 
     Raises :class:`UnknownLawError` (a ``KeyError``) listing the known names for an unknown law, and :class:`ParameterError`

@@ -1,0 +1,188 @@
+"""Intensity scales (data registered through the plugin hook), degrees, levels D_0..D_IV, scaling.
+
+The default scale is the table of the design notes (upper bounds of PGA_H10, m/s^2, by t_Ha):
+
+=============  ====  ===========  ===========  ===========  ===========
+t_Ha           0     I            II           III          IV
+=============  ====  ===========  ===========  ===========  ===========
+<= 1.5 s       0.15  0.6          0.9          1.2          1.6
+1.5 - 3 s      0.15  0.9 - 0.2 t  1.2 - 0.2 t  1.5 - 0.2 t  1.9 - 0.2 t
+> 3 s          0.15  0.3          0.6          0.9          1.3
+=============  ====  ===========  ===========  ===========  ===========
+
+As data this is two breakpoints, t_Ha = 1.5 s and 3 s, with each degree's bound linear between
+them and constant outside; the middle row is exactly that line (the table is continuous).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from typing import Any
+
+import attrs
+
+from bearingfw.motion.errors import IntensityMismatchError, UnknownScaleError
+from bearingfw.motion.metrics import pga_h10, t_ha
+from bearingfw.motion.record import Record
+from bearingfw.parameters import ParameterError, parameter
+from bearingfw.plugins.contracts import IntensityScale
+
+__all__ = [
+    "DEFAULT_LEVELS",
+    "DEFAULT_SCALE",
+    "DEFAULT_SCALE_NAME",
+    "LEVEL_NAMES",
+    "IntensityLevels",
+    "IntensityScale",
+    "get_scale",
+    "level_degree",
+    "level_name",
+    "record_degree",
+    "scale_to_level",
+    "scale_to_pga_h10",
+]
+
+DEFAULT_SCALE_NAME = "usb-pga-h10"
+
+DEFAULT_SCALE = IntensityScale(
+    name=DEFAULT_SCALE_NAME,
+    degrees=("0", "I", "II", "III", "IV"),
+    durations=(1.5, 3.0),
+    bounds=((0.15, 0.15), (0.6, 0.3), (0.9, 0.6), (1.2, 0.9), (1.6, 1.3)),
+    description=(
+        "Mining-tremor intensity by PGA_H10 and t_Ha (Upper Silesian Basin; the GSI-GZW_KW-2012-A "
+        "scale of the paper in kind). Boundaries from the bearingfw design notes; they reproduce the "
+        "paper's classifications (0.10 m/s^2 -> 0; 0.46 m/s^2 at 3.5 s -> II). Check them against the "
+        "published scale before using them for an assessment."
+    ),
+)
+
+#: The paper's intensity levels, lowest first, and the degree each one stands for.
+LEVEL_NAMES = ("D_0", "D_I", "D_II", "D_III", "D_IV")
+_LEVEL_DEGREES = dict(zip(LEVEL_NAMES, ("0", "I", "II", "III", "IV")))
+
+
+def _level(default: float, doc: str):
+    return parameter(low=0.0, low_open=True, default=default, unit="m/s^2", doc=doc)
+
+
+@attrs.frozen
+class IntensityLevels:
+    """Target PGA_H10 (m/s^2) of the tremors D_0 .. D_IV.
+
+    The defaults are the paper's D_0 = 0.10 and D_II = 0.46 m/s^2 and, for D_I, D_III and D_IV,
+    values inside their degree of the default scale for every t_Ha > 3 s (degree bounds 0.15,
+    0.3, 0.6, 0.9, 1.3 m/s^2 there).
+    """
+
+    d0: float = _level(0.10, "D_0: degree 0 (the paper's low-energy tremor)")
+    d1: float = _level(0.23, "D_I: degree I")
+    d2: float = _level(0.46, "D_II: degree II (the paper's recorded tremor)")
+    d3: float = _level(0.75, "D_III: degree III")
+    d4: float = _level(1.10, "D_IV: degree IV")
+
+    def __attrs_post_init__(self):
+        values = attrs.astuple(self)
+        if any(b <= a for a, b in zip(values, values[1:])):
+            raise ParameterError(
+                "IntensityLevels: the levels must increase from D_0 to D_IV, got "
+                + ", ".join(f"{n} = {v:g}" for n, v in zip(LEVEL_NAMES, values))
+            )
+
+    def as_dict(self) -> dict[str, float]:
+        """``{"D_0": 0.10, ..., "D_IV": 1.10}``."""
+        return dict(zip(LEVEL_NAMES, attrs.astuple(self)))
+
+    def __getitem__(self, level: str) -> float:
+        return self.as_dict()[level_name(level)]
+
+    @classmethod
+    def with_overrides(cls, overrides: dict[str, float] | None = None) -> IntensityLevels:
+        """Defaults with some levels replaced, keyed by any spelling :func:`level_name` accepts."""
+        fields = dict(zip(LEVEL_NAMES, ("d0", "d1", "d2", "d3", "d4")))
+        return cls(**{fields[level_name(k)]: v for k, v in (overrides or {}).items()})
+
+
+DEFAULT_LEVELS = IntensityLevels()
+
+
+def level_name(level: Any) -> str:
+    """The canonical name ``D_0`` .. ``D_IV`` of a level given as ``D_II``, ``DII``, ``d2``, ``II`` or ``2``."""
+    text = str(level).strip().upper().replace("-", "_")
+    text = re.sub(r"^D_?", "", text)
+    arabic = {"0": "0", "1": "I", "2": "II", "3": "III", "4": "IV"}
+    text = arabic.get(text, text)
+    name = f"D_{text}"
+    if name not in _LEVEL_DEGREES:
+        raise ParameterError(f"unknown intensity level {level!r}; levels: {', '.join(LEVEL_NAMES)}")
+    return name
+
+
+def level_degree(level: Any) -> str:
+    """The degree a level stands for: ``D_II`` -> ``"II"``."""
+    return _LEVEL_DEGREES[level_name(level)]
+
+
+def get_scale(name: str | None = None, registry=None) -> IntensityScale:
+    """The registered scale ``name`` (default: the default scale)."""
+    from bearingfw.plugins import get_registry  # the registry is built on first use
+
+    registry = registry or get_registry()
+    name = name or DEFAULT_SCALE_NAME
+    try:
+        return registry.intensity_scales[name].value
+    except KeyError:
+        known = ", ".join(sorted(registry.intensity_scales)) or "none: is bearingfw installed with pip?"
+        raise UnknownScaleError(f"unknown intensity scale {name!r}; known scales: {known}") from None
+
+
+def record_degree(record: Record, scale: IntensityScale | None = None) -> str:
+    """The degree of a record on ``scale`` (default :data:`DEFAULT_SCALE`) from its PGA_H10 and t_Ha."""
+    scale = scale or DEFAULT_SCALE
+    return scale.degree(pga_h10(record.h1, record.h2, record.dt), t_ha(record.h1, record.h2, record.dt))
+
+
+def scale_to_pga_h10(record: Record, target: float) -> Record:
+    """The record times ``target / PGA_H10(record)``: its PGA_H10 becomes ``target`` (m/s^2).
+
+    PGA_H10 is positively homogeneous (the filter is linear, the resultant a norm), so one
+    factor is exact; t_Ha and every spectral shape are unchanged.
+    """
+    target = float(target)
+    if not math.isfinite(target) or target <= 0:
+        raise ParameterError(f"target PGA_H10 must be finite and > 0 m/s^2, got {target!r}")
+    current = pga_h10(record.h1, record.h2, record.dt)
+    if current <= 0:
+        raise ParameterError(f"{record.title}: PGA_H10 is zero (no horizontal motion), it cannot be scaled")
+    return record.scaled(target / current, target_pga_h10=target)
+
+
+def scale_to_level(
+    record: Record,
+    level: Any,
+    levels: IntensityLevels = DEFAULT_LEVELS,
+    scale: IntensityScale | None = None,
+) -> Record:
+    """The record scaled to the PGA_H10 of intensity ``level`` (``"D_0"`` .. ``"D_IV"``).
+
+    Raises :class:`IntensityMismatchError` if the scaled record's degree on ``scale`` is not the
+    level's degree (t_Ha, which scaling does not change, can move a degree's boundaries).
+    """
+    scale = scale or DEFAULT_SCALE
+    name = level_name(level)
+    target = levels[name]
+    scaled = scale_to_pga_h10(record, target)
+    duration = t_ha(scaled.h1, scaled.h2, scaled.dt)
+    degree = scale.degree(target, duration)
+    wanted = level_degree(name)
+    if degree != wanted:
+        bounds = scale.upper_bounds(duration)
+        index = scale.degrees.index(wanted)
+        low = bounds[index - 1] if index else 0.0
+        raise IntensityMismatchError(
+            f"{record.title} scaled to {name} (PGA_H10 = {target:g} m/s^2) has t_Ha = {duration:.2f} s and is "
+            f"degree {degree}, not {wanted}, on scale {scale.name!r}: degree {wanted} needs "
+            f"{low:.3g} < PGA_H10 <= {bounds[index]:.3g} m/s^2 at that t_Ha; choose another level value"
+        )
+    return attrs.evolve(scaled, metadata={**scaled.metadata, "level": name, "degree": degree, "scale": scale.name})

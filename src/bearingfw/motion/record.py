@@ -1,0 +1,285 @@
+"""Three-component acceleration records, the traces readers return, units and resampling.
+
+A :class:`Record` holds the two orthogonal horizontal components ``h1``, ``h2`` and the vertical
+``v`` on one time grid ``t_k = k dt`` (``k = 0 .. n-1``), always in m/s^2. Readers return
+:class:`Trace` objects in the file's own units and time step; :func:`assemble` converts the units,
+resamples every trace to the finest time step among them and pads shorter traces with trailing
+zeros, and the record keeps the original lengths so that it can say which components were padded.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from fractions import Fraction
+from pathlib import Path
+from typing import Any, ClassVar
+
+import attrs
+import numpy as np
+from scipy import signal
+
+from bearingfw.parameters import ParameterError, parameter
+
+__all__ = [
+    "G",
+    "ROLES",
+    "UNIT_FACTORS",
+    "Record",
+    "Trace",
+    "assemble",
+    "normalize_units",
+    "resample",
+]
+
+#: Standard gravity (m/s^2): PEER and most strong-motion files give accelerations in g.
+G = 9.80665
+
+#: Canonical acceleration units and their factor to m/s^2.
+UNIT_FACTORS = {"g": G, "m/s^2": 1.0, "cm/s^2": 0.01}
+
+_UNIT_ALIASES = {
+    "g": "g",
+    "m/s^2": "m/s^2", "m/s2": "m/s^2", "m/s/s": "m/s^2", "m/s**2": "m/s^2", "m/sec/sec": "m/s^2",
+    "m/sec^2": "m/s^2", "m/sec2": "m/s^2", "ms-2": "m/s^2", "m s-2": "m/s^2", "mps2": "m/s^2",
+    "cm/s^2": "cm/s^2", "cm/s2": "cm/s^2", "cm/s/s": "cm/s^2", "cm/s**2": "cm/s^2", "cm/sec/sec": "cm/s^2",
+    "cm/sec^2": "cm/s^2", "cm/sec2": "cm/s^2", "cms-2": "cm/s^2", "cm s-2": "cm/s^2", "gal": "cm/s^2",
+}
+
+#: The component roles of a record, in the order files and columns are assigned to them.
+ROLES = ("h1", "h2", "v")
+
+
+def normalize_units(text: Any) -> str:
+    """The canonical name (``g``, ``m/s^2`` or ``cm/s^2``) of an acceleration unit spelling."""
+    key = str(text).strip().lower().replace("²", "^2")
+    if key in _UNIT_ALIASES:
+        return _UNIT_ALIASES[key]
+    raise ParameterError(f"unknown acceleration unit {text!r}; allowed: g, m/s^2, cm/s^2 (or gal)")
+
+
+def _float_vector(value: Any) -> Any:
+    try:
+        array = np.array(value, dtype=float)  # a private copy: the caller's array stays theirs
+    except (TypeError, ValueError):
+        return value
+    array.setflags(write=False)
+    return array
+
+
+def _check_vector(instance, attribute, value):
+    owner = type(instance).__name__
+    if not isinstance(value, np.ndarray) or value.ndim != 1 or value.size < 2:
+        raise ParameterError(f"{owner}: {attribute.name!r} must be a 1-D array of at least 2 numbers, got {value!r}")
+    bad = np.flatnonzero(~np.isfinite(value))
+    if bad.size:
+        raise ParameterError(f"{owner}: {attribute.name!r} has a non-finite value {value[bad[0]]} at index {bad[0]}")
+
+
+@attrs.frozen(eq=False)
+class Trace:
+    """One acceleration component as a reader found it: values in ``units``, sampled every ``dt`` s."""
+
+    values: np.ndarray = attrs.field(converter=_float_vector, validator=_check_vector)
+    dt: float = parameter(low=0.0, low_open=True, unit="s", doc="time step")
+    units: str = attrs.field(converter=normalize_units)
+    label: str = ""
+    metadata: Mapping[str, Any] = attrs.field(factory=dict)
+
+    def in_si(self) -> np.ndarray:
+        """The values in m/s^2."""
+        return self.values * UNIT_FACTORS[self.units]
+
+
+def _check_names(instance, attribute, value):
+    if not (isinstance(value, tuple) and len(value) == 3 and all(isinstance(n, str) and n for n in value)):
+        raise ParameterError(f"Record: 'names' must be three non-empty labels (h1, h2, v), got {value!r}")
+
+
+def _check_lengths(instance, attribute, value):
+    if value is None:
+        return
+    n = instance.h1.size
+    if not (isinstance(value, tuple) and len(value) == 3 and all(isinstance(k, int) and 1 <= k <= n for k in value)):
+        raise ParameterError(f"Record: 'lengths' must be three sample counts between 1 and n = {n}, got {value!r}")
+
+
+@attrs.frozen(eq=False)
+class Record:
+    """A three-component ground acceleration record in m/s^2.
+
+    ``h1`` and ``h2`` are orthogonal horizontal components, ``v`` the vertical (up); all have the
+    same length ``n``. ``lengths`` are the components' sample counts before zero padding (None:
+    nothing was padded). ``source`` says where the record came from; ``synthetic`` is True for
+    generated motion, which every printout and plot then labels as synthetic.
+    """
+
+    units: ClassVar[str] = "m/s^2"
+
+    h1: np.ndarray = attrs.field(converter=_float_vector, validator=_check_vector)
+    h2: np.ndarray = attrs.field(converter=_float_vector, validator=_check_vector)
+    v: np.ndarray = attrs.field(converter=_float_vector, validator=_check_vector)
+    dt: float = parameter(low=0.0, low_open=True, unit="s", doc="time step")
+    names: tuple[str, str, str] = attrs.field(default=("H1", "H2", "V"), converter=tuple, validator=_check_names)
+    source: str = ""
+    synthetic: bool = attrs.field(default=False, converter=bool)
+    lengths: tuple[int, int, int] | None = attrs.field(
+        default=None, converter=attrs.converters.optional(lambda v: tuple(int(k) for k in v)), validator=_check_lengths
+    )
+    source_units: tuple[str, str, str] = attrs.field(default=("m/s^2",) * 3, converter=tuple)
+    metadata: Mapping[str, Any] = attrs.field(factory=dict)
+
+    def __attrs_post_init__(self):
+        sizes = (self.h1.size, self.h2.size, self.v.size)
+        if len(set(sizes)) != 1:
+            raise ParameterError(
+                f"Record: components must have equal lengths (got h1={sizes[0]}, h2={sizes[1]}, v={sizes[2]}); "
+                "use bearingfw.motion.assemble to pad them"
+            )
+
+    # -- shape and time ------------------------------------------------------------------------
+    @property
+    def n(self) -> int:
+        return int(self.h1.size)
+
+    @property
+    def duration(self) -> float:
+        """``(n - 1) dt``, s."""
+        return (self.n - 1) * self.dt
+
+    @property
+    def time(self) -> np.ndarray:
+        return np.arange(self.n) * self.dt
+
+    @property
+    def components(self) -> np.ndarray:
+        """``(3, n)``: h1, h2, v."""
+        return np.vstack([self.h1, self.h2, self.v])
+
+    @property
+    def horizontal(self) -> np.ndarray:
+        """``(2, n)``: h1, h2."""
+        return np.vstack([self.h1, self.h2])
+
+    def component(self, role: str) -> np.ndarray:
+        if role not in ROLES:
+            raise ParameterError(f"Record: component must be one of {', '.join(ROLES)}, got {role!r}")
+        return getattr(self, role)
+
+    # -- padding -------------------------------------------------------------------------------
+    @property
+    def original_lengths(self) -> tuple[int, int, int]:
+        return self.lengths if self.lengths is not None else (self.n,) * 3
+
+    @property
+    def padded(self) -> bool:
+        """True if any component was shorter than the record and was padded with zeros."""
+        return any(k < self.n for k in self.original_lengths)
+
+    @property
+    def padded_components(self) -> tuple[str, ...]:
+        """The names of the components padded with trailing zeros."""
+        return tuple(name for name, k in zip(self.names, self.original_lengths) if k < self.n)
+
+    # -- labels --------------------------------------------------------------------------------
+    @property
+    def title(self) -> str:
+        """A one-line label for printouts and plots; synthetic motion always says so."""
+        text = self.source or "record"
+        if self.synthetic and "synthetic" not in text.lower():
+            text = f"SYNTHETIC {text}"
+        factor = self.metadata.get("scale_factor")
+        if factor is not None and factor != 1.0:
+            text += f", scaled x{factor:.4g}"
+        return text
+
+    # -- derived records -----------------------------------------------------------------------
+    def scaled(self, factor: float, **metadata: Any) -> Record:
+        """All three components times ``factor`` (> 0); ``metadata['scale_factor']`` accumulates."""
+        factor = float(factor)
+        if not math.isfinite(factor) or factor <= 0:
+            raise ParameterError(f"Record.scaled: factor must be finite and > 0, got {factor!r}")
+        meta = dict(self.metadata)
+        meta["scale_factor"] = meta.get("scale_factor", 1.0) * factor
+        meta.update(metadata)
+        return attrs.evolve(self, h1=self.h1 * factor, h2=self.h2 * factor, v=self.v * factor, metadata=meta)
+
+    def resampled(self, dt: float) -> Record:
+        """The record on the grid ``k dt`` (band-limited polyphase resampling, see :func:`resample`)."""
+        if math.isclose(dt, self.dt, rel_tol=1e-12):
+            return self
+        h1, h2, v = (resample(c, self.dt, dt) for c in (self.h1, self.h2, self.v))
+        lengths = None
+        if self.lengths is not None:
+            lengths = tuple(min(h1.size, math.ceil(k * self.dt / dt)) for k in self.lengths)
+        return attrs.evolve(self, h1=h1, h2=h2, v=v, dt=dt, lengths=lengths)
+
+    def to_npz(self, path: str | Path) -> Path:
+        """Write the record as an ``.npz`` archive that the ``npz`` reader reads back."""
+        path = Path(path)
+        np.savez(
+            path,
+            h1=self.h1, h2=self.h2, v=self.v, dt=np.float64(self.dt), units=np.str_(self.units),
+            names=np.array(self.names), source=np.str_(self.title), synthetic=np.bool_(self.synthetic),
+        )
+        return path if path.suffix == ".npz" else path.with_name(path.name + ".npz")
+
+
+def resample(values: np.ndarray, dt_from: float, dt_to: float) -> np.ndarray:
+    """Resample a signal from step ``dt_from`` to ``dt_to`` (band-limited, zero phase).
+
+    ``dt_from / dt_to`` is written as a fraction ``up / down`` (denominator <= 1000) and the
+    signal goes through a polyphase filter (``scipy.signal.resample_poly``): interpolation by
+    ``up``, a linear-phase Kaiser-window low-pass at the lower Nyquist frequency (the
+    anti-aliasing filter when coarsening), decimation by ``down``. The output has
+    ``ceil(n up / down)`` samples and covers the same duration.
+    """
+    ratio = Fraction(dt_from / dt_to).limit_denominator(1000)
+    if ratio <= 0 or not math.isclose(float(ratio), dt_from / dt_to, rel_tol=1e-9):
+        raise ParameterError(
+            f"cannot resample from dt = {dt_from:g} s to dt = {dt_to:g} s: the ratio is not a fraction with a "
+            "denominator up to 1000; choose a time step that divides the record's"
+        )
+    if ratio == 1:
+        return np.array(values, dtype=float)
+    return signal.resample_poly(np.asarray(values, dtype=float), ratio.numerator, ratio.denominator)
+
+
+def assemble(
+    traces: Sequence[Trace],
+    *,
+    source: str = "",
+    synthetic: bool = False,
+    names: Sequence[str] | None = None,
+    metadata: Mapping[str, Any] | None = None,
+    dt: float | None = None,
+) -> Record:
+    """One :class:`Record` from three traces given as horizontal 1, horizontal 2, vertical.
+
+    Units are converted to m/s^2. Every trace is resampled to ``dt`` (default: the finest time
+    step among the traces, so that no trace loses content) and shorter traces are padded with
+    trailing zeros to the longest; the record's ``lengths`` keep the unpadded counts.
+    """
+    traces = list(traces)
+    if len(traces) != 3:
+        raise ParameterError(
+            f"a record needs 3 components (horizontal 1, horizontal 2, vertical), got {len(traces)}"
+        )
+    for trace in traces:
+        if not isinstance(trace, Trace):
+            raise TypeError(f"expected bearingfw.motion.Trace objects, got {trace!r}")
+    target = min(t.dt for t in traces) if dt is None else float(dt)
+    series = [resample(t.in_si(), t.dt, target) for t in traces]
+    lengths = tuple(s.size for s in series)
+    n = max(lengths)
+    padded = [np.concatenate([s, np.zeros(n - s.size)]) for s in series]
+    if names is None:
+        names = tuple(t.label or default for t, default in zip(traces, ("H1", "H2", "V")))
+    meta = dict(metadata or {})
+    if any(not math.isclose(t.dt, target, rel_tol=1e-12) for t in traces):
+        meta["resampled_from"] = [t.dt for t in traces]
+    return Record(
+        h1=padded[0], h2=padded[1], v=padded[2], dt=target, names=tuple(names), source=source,
+        synthetic=synthetic, lengths=lengths if min(lengths) < n else None,
+        source_units=tuple(t.units for t in traces), metadata=meta,
+    )

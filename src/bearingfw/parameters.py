@@ -20,7 +20,7 @@ from typing import Any
 
 import attrs
 
-__all__ = ["ParameterError", "parameter", "dims_parameter", "describe_range"]
+__all__ = ["ParameterError", "describe_range", "dims_parameter", "owner_of", "parameter"]
 
 
 class ParameterError(ValueError):
@@ -45,6 +45,15 @@ def _to_float(value: Any) -> Any:
     return value
 
 
+def owner_of(instance) -> str:
+    """How an error names the object: a law by its registry key, anything else by class and name."""
+    name = getattr(instance, "name", None)
+    if isinstance(name, str) and name and name == getattr(type(instance), "name", None):
+        return name
+    kind = type(instance).__name__
+    return f"{kind} {name!r}" if isinstance(name, str) and name else kind
+
+
 def parameter(
     *,
     low: float | None = None,
@@ -52,30 +61,37 @@ def parameter(
     low_open: bool = False,
     high_open: bool = False,
     default: Any = attrs.NOTHING,
+    optional: bool = False,
     unit: str = "",
     doc: str = "",
     typical: float | None = None,
 ):
     """An attrs field for a finite real parameter within ``[low, high]`` (ends open on request).
 
-    ``typical`` is a representative magnitude (e.g. 4e8 for a bearing's stiffness in N/m); the
-    hypothesis strategies of :mod:`bearingfw.testing` draw around it when the range is open.
+    ``optional=True`` makes ``None`` (then the default) mean "not given". ``typical`` is a
+    representative magnitude (e.g. 4e8 for a bearing's stiffness in N/m); the hypothesis
+    strategies of :mod:`bearingfw.testing` draw around it when the range is open.
     """
+    if optional and default is attrs.NOTHING:
+        default = None
 
     def check(instance, attribute, value):
+        if optional and value is None:
+            return
         name = attribute.name
         allowed = describe_range(name, low, high, low_open, high_open)
-        owner = getattr(instance, "name", type(instance).__name__)
         if not isinstance(value, float):
             raise ParameterError(
-                f"{owner}: parameter {name!r} must be a real number ({allowed}), "
-                f"got {type(value).__name__} {value!r}"
+                f"{owner_of(instance)}: parameter {name!r} must be a real number ({allowed})"
+                f"{' or None' if optional else ''}, got {type(value).__name__} {value!r}"
             )
         bad = not math.isfinite(value)
         bad |= low is not None and (value <= low if low_open else value < low)
         bad |= high is not None and (value >= high if high_open else value > high)
         if bad:
-            raise ParameterError(f"{owner}: parameter {name!r} = {value!r} is outside the allowed range {allowed}")
+            raise ParameterError(
+                f"{owner_of(instance)}: parameter {name!r} = {value!r} is outside the allowed range {allowed}"
+            )
 
     return attrs.field(
         default=default,
@@ -96,9 +112,8 @@ def dims_parameter(default: int = 1):
     """The ``dims`` field of a law: 1 (guided bearing) or 2 (free sliding), set by the connector."""
 
     def check(instance, attribute, value):
-        owner = getattr(instance, "name", type(instance).__name__)
         if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value not in (1, 2):
-            raise ParameterError(f"{owner}: parameter 'dims' must be 1 or 2, got {value!r}")
+            raise ParameterError(f"{owner_of(instance)}: parameter 'dims' must be 1 or 2, got {value!r}")
 
     return attrs.field(
         default=default,

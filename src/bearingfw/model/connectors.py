@@ -1,0 +1,393 @@
+"""Connectors (bearings): description, and the sparse operators the analyses work with.
+
+A connector joins node ``i`` (support side: pier top, abutment) and node ``j`` (girder side:
+bearing soffit), which coincide. Its local frame has rows ``e_x`` (longitudinal), ``e_y``
+(transverse), ``e_z`` (vertical), built from ``x_axis`` and ``z_axis``: ``e_z = z / |z|``,
+``e_x`` = ``x_axis`` made orthogonal to ``e_z``, ``e_y = e_z x e_x``. The relative translation
+in that frame is ``d = R (u_j - u_i)``. Rotations are free (a pot bearing rotates).
+
+=========  ==========================  ==========================================
+kind       vertical ``d_z``            horizontal ``d_x``, ``d_y``
+=========  ==========================  ==========================================
+JOIN       tied                        both tied
+PLANAR     spring ``vertical_stiffness``  both governed by the law, ``dims = 2``
+AXIAL      spring ``vertical_stiffness``  ``guided`` one by the law (``dims = 1``), the other tied
+=========  ==========================  ==========================================
+
+A law is built with :func:`bearingfw.create_law` from its name and parameters; connectors
+that share (law, parameters, dims) share one law object (vectorised over them). If the law is
+``rigid`` its directions are tied like JOIN's. Tied directions become constraint equations
+(:mod:`bearingfw.model.constraints`), never penalty springs.
+
+Operators (full DOF numbering, ``n_dof`` columns):
+
+- ``D`` (3 per connector): every relative translation, row ``3 c + k`` = ``e_k . (u_j - u_i)``.
+- ``B`` (rows of ``D`` governed by non-rigid laws), grouped law by law: group ``g`` owns rows
+  ``g.rows``, connector-major then direction, so ``(B u)[g.rows].reshape(n, dims)`` is the
+  ``u`` its law takes. Law forces assemble as ``B^T f`` and tangents as ``B^T K_t B``.
+- ``V`` (the ``e_z`` rows of connectors with a vertical spring): the vertical spring force is
+  ``kv * (V u)``; the bearing's compressive normal force is ``N = -kv * (V u)`` (compression
+  positive: node ``j`` pressed down onto ``i``).
+
+Sign of connector forces: ``F = R (force the connector exerts on node i)``, i.e. the force
+resisting ``d``; a linear spring gives ``F = +k d`` and the force on node ``j`` is ``-F``.
+"""
+
+from __future__ import annotations
+
+import enum
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import attrs
+import numpy as np
+import scipy.sparse as sp
+
+from bearingfw.model._fields import ModelError, choice, name_field, node_ref, vector3
+from bearingfw.model.dofs import DofMap
+from bearingfw.model.equations import Equation
+from bearingfw.parameters import ParameterError, parameter
+from bearingfw.plugins import Registry, UnknownLawError, create_law, describe_parameters, get_registry
+from bearingfw.protocol import BearingLaw, LawResponse
+
+__all__ = [
+    "ConnectorKind",
+    "Connector",
+    "LawGroup",
+    "ConnectorOperators",
+    "build_connector_operators",
+    "connector_frame",
+    "axes_from_rotation",
+    "LOCAL_DIRECTIONS",
+]
+
+LOCAL_DIRECTIONS = ("x", "y", "z")
+
+
+class ConnectorKind(enum.StrEnum):
+    """Abaqus-style connector kinds used by the paper for the pot bearings."""
+
+    JOIN = "join"  # fixed pot bearing
+    PLANAR = "planar"  # multidirectional sliding
+    AXIAL = "axial"  # guided sliding
+
+
+def _to_kind(value):
+    if isinstance(value, ConnectorKind):
+        return value
+    if isinstance(value, str):
+        try:
+            return ConnectorKind(value.lower())
+        except ValueError:
+            return value
+    return value
+
+
+def _to_params(value):
+    if value is None:
+        return ()
+    if isinstance(value, Mapping):
+        return tuple(sorted(value.items()))
+    return value
+
+
+def axes_from_rotation(rotation) -> dict[str, tuple[float, float, float]]:
+    """``x_axis`` and ``z_axis`` keywords for a :class:`Connector` from a rotation matrix.
+
+    ``rotation`` has the local axes as rows (``d = R (u_j - u_i)``); it must be orthonormal and
+    right-handed.
+    """
+    R = np.asarray(rotation, dtype=float)
+    if R.shape != (3, 3) or not np.allclose(R @ R.T, np.eye(3), atol=1e-9) or np.linalg.det(R) < 0:
+        raise ModelError(f"connector frame: rotation must be a proper 3x3 rotation matrix, got {R.tolist()!r}")
+    return {"x_axis": tuple(R[0].tolist()), "z_axis": tuple(R[2].tolist())}
+
+
+def connector_frame(x_axis: Sequence[float], z_axis: Sequence[float]) -> np.ndarray:
+    """Orthonormal rows ``e_x, e_y, e_z``: ``e_z`` along ``z_axis``, ``e_x`` the part of ``x_axis`` normal to it."""
+    ez = np.asarray(z_axis, dtype=float)
+    ez = ez / np.linalg.norm(ez)
+    ex = np.asarray(x_axis, dtype=float)
+    ex = ex - (ex @ ez) * ez
+    norm = np.linalg.norm(ex)
+    if norm < 1e-9 * np.linalg.norm(x_axis):
+        raise ModelError("connector frame: x_axis is parallel to z_axis")
+    ex = ex / norm
+    return np.array([ex, np.cross(ez, ex), ez])
+
+
+@attrs.frozen
+class Connector:
+    """A bearing between ``node_i`` (support side) and ``node_j`` (girder side).
+
+    ``law`` (a registered law name) and ``law_params`` govern the horizontal directions of
+    PLANAR and AXIAL connectors; JOIN takes neither. ``vertical_stiffness`` (N/m) is required
+    for PLANAR and AXIAL and not taken by JOIN. ``guided`` is the AXIAL connector's governed
+    local direction, ``"x"`` (longitudinally guided) or ``"y"``.
+    """
+
+    name: str = name_field()
+    node_i: str = node_ref("support-side node (pier top)")
+    node_j: str = node_ref("girder-side node (soffit)")
+    kind: ConnectorKind = attrs.field(converter=_to_kind)
+    law: str | None = attrs.field(default=None)
+    law_params: tuple[tuple[str, Any], ...] = attrs.field(default=(), converter=_to_params)
+    vertical_stiffness: float | None = parameter(optional=True, low=0.0, low_open=True, unit="N/m", doc="vertical spring")
+    guided: str = choice(LOCAL_DIRECTIONS[:2], default="x", doc="AXIAL: the governed local direction")
+    x_axis: tuple[float, float, float] = vector3(default=(1.0, 0.0, 0.0), nonzero=True, doc="local x (longitudinal)")
+    z_axis: tuple[float, float, float] = vector3(default=(0.0, 0.0, 1.0), nonzero=True, doc="local z (vertical)")
+    _rotation: np.ndarray = attrs.field(init=False, repr=False, eq=False)
+
+    def __attrs_post_init__(self):
+        me = f"connector {self.name!r}"
+        if not isinstance(self.kind, ConnectorKind):
+            raise ModelError(f"{me}: field 'kind' must be one of join, planar, axial; got {self.kind!r}")
+        if self.node_i == self.node_j:
+            raise ModelError(f"{me}: fields 'node_i' and 'node_j' name the same node {self.node_i!r}")
+        if not isinstance(self.law_params, tuple) or not all(
+            isinstance(p, tuple) and len(p) == 2 and isinstance(p[0], str) for p in self.law_params
+        ):
+            raise ModelError(f"{me}: field 'law_params' must be a mapping of parameter names to values")
+        if "dims" in dict(self.law_params):
+            raise ModelError(f"{me}: field 'law_params' must not set 'dims' (the connector kind sets it)")
+        try:
+            hash(self.law_params)
+        except TypeError:
+            raise ModelError(f"{me}: field 'law_params' must hold hashable values (numbers, strings)") from None
+        if self.kind is ConnectorKind.JOIN:
+            if self.law is not None or self.law_params:
+                raise ModelError(f"{me}: field 'law' must be None for a JOIN connector (it ties every direction)")
+            if self.vertical_stiffness is not None:
+                raise ModelError(
+                    f"{me}: field 'vertical_stiffness' must be None for a JOIN connector (vertical is tied)"
+                )
+        else:
+            if not isinstance(self.law, str) or not self.law:
+                raise ModelError(f"{me}: field 'law' must name a bearing law for a {self.kind.value.upper()} connector")
+            if self.vertical_stiffness is None:
+                raise ModelError(
+                    f"{me}: field 'vertical_stiffness' is required for a {self.kind.value.upper()} connector"
+                )
+        try:
+            rotation = connector_frame(self.x_axis, self.z_axis)
+        except ModelError:
+            raise ModelError(f"{me}: fields 'x_axis' and 'z_axis' are parallel") from None
+        rotation.setflags(write=False)
+        object.__setattr__(self, "_rotation", rotation)
+
+    @property
+    def rotation(self) -> np.ndarray:
+        """Rows ``e_x, e_y, e_z`` of the local frame in global axes."""
+        return self._rotation
+
+    @property
+    def params(self) -> dict[str, Any]:
+        return dict(self.law_params)
+
+    @property
+    def dims(self) -> int:
+        """Directions the law governs: 2 (PLANAR), 1 (AXIAL), 0 (JOIN)."""
+        return {ConnectorKind.JOIN: 0, ConnectorKind.PLANAR: 2, ConnectorKind.AXIAL: 1}[self.kind]
+
+    @property
+    def law_directions(self) -> tuple[int, ...]:
+        """Local directions (0 = x, 1 = y) given to the law, in the order of its ``u`` columns."""
+        if self.kind is ConnectorKind.PLANAR:
+            return (0, 1)
+        if self.kind is ConnectorKind.AXIAL:
+            return (LOCAL_DIRECTIONS.index(self.guided),)
+        return ()
+
+    @property
+    def tied_directions(self) -> tuple[int, ...]:
+        """Local directions tied by the kind itself (a rigid law adds its ``law_directions``)."""
+        if self.kind is ConnectorKind.JOIN:
+            return (0, 1, 2)
+        if self.kind is ConnectorKind.AXIAL:
+            return (1 - LOCAL_DIRECTIONS.index(self.guided),)
+        return ()
+
+    @property
+    def law_key(self) -> tuple:
+        """Connectors with equal keys share one law object."""
+        return (self.law, self.law_params, self.dims)
+
+
+@attrs.frozen(eq=False)
+class LawGroup:
+    """One law object and the connectors it governs (model order)."""
+
+    law: BearingLaw
+    connectors: np.ndarray  # indices into Model.connectors
+    rows: slice  # rows of B
+    springs: np.ndarray  # rows of V (vertical springs) of these connectors, for N
+
+    @property
+    def n(self) -> int:
+        return int(self.connectors.size)
+
+    @property
+    def dims(self) -> int:
+        return int(self.law.dims)
+
+
+def _make_law(name: str, params: dict, dims: int, registry: Registry, who: str) -> BearingLaw:
+    try:
+        cls = registry.law_class(name)
+        # dims is set by the connector kind when the law takes it; otherwise it is fixed (a
+        # class attribute) and must match.
+        if "dims" in {d["name"] for d in describe_parameters(cls)}:
+            law = create_law(name, registry=registry, dims=dims, **params)
+        else:
+            law = create_law(name, registry=registry, **params)
+    except UnknownLawError as exc:
+        raise ModelError(f"{who}: field 'law': {exc}") from exc
+    except ParameterError as exc:
+        raise ModelError(f"{who}: field 'law_params': {exc}") from exc
+    if law.dims != dims:
+        raise ModelError(
+            f"{who}: field 'law': law {name!r} governs {law.dims} direction(s); the connector needs {dims}"
+        )
+    return law
+
+
+@attrs.frozen(eq=False)
+class ConnectorOperators:
+    """The sparse maps from global displacements to connector quantities (module docstring)."""
+
+    D: sp.csr_matrix
+    B: sp.csr_matrix
+    V: sp.csr_matrix
+    kv: np.ndarray
+    spring_connectors: np.ndarray
+    groups: tuple[LawGroup, ...]
+    ties: tuple[tuple[int, int], ...]  # (connector, local direction) pairs tied as constraints
+    governed: tuple[tuple[int, int], ...]  # (connector, local direction) per row of B
+    translations: np.ndarray  # (n, 2, 3): translation DOFs of node i and node j
+
+    @property
+    def n_connectors(self) -> int:
+        return self.D.shape[0] // 3
+
+    @property
+    def n_governed(self) -> int:
+        return self.B.shape[0]
+
+    # ---- pure helpers over flat vectors ---------------------------------------------------
+    def split(self, d: np.ndarray) -> list[np.ndarray]:
+        """Governed displacements ``d = B u`` (flat) -> per group ``(n, dims)`` arrays."""
+        return [d[g.rows].reshape(g.n, g.dims) for g in self.groups]
+
+    def normal_forces(self, v: np.ndarray) -> np.ndarray:
+        """Compressive normal force of each spring connector from ``v = V u``."""
+        return -self.kv * v
+
+    def initial_states(self) -> tuple:
+        return tuple(g.law.initial_state(g.n) for g in self.groups)
+
+    def respond(self, states: Sequence, d: np.ndarray, N_springs: np.ndarray, dt: float) -> list[LawResponse]:
+        """Call every law at governed displacements ``d`` (flat) with normal forces per spring row.
+
+        The protocol's ``normal_force`` is ``>= 0``: uplift (``N < 0``) reaches the law as 0.
+        """
+        contact = np.maximum(N_springs, 0.0)
+        return [
+            g.law.respond(state, u, contact[g.springs], dt)
+            for g, state, u in zip(self.groups, states, self.split(d), strict=True)
+        ]
+
+    def forces(self, responses: Sequence[LawResponse]) -> np.ndarray:
+        """Flat law forces aligned with the rows of ``B`` (assemble with ``B.T @ f``)."""
+        if not self.groups:
+            return np.zeros(0)
+        return np.concatenate([np.asarray(r.force, dtype=float).reshape(-1) for r in responses])
+
+    def tangent(self, responses: Sequence[LawResponse]) -> sp.csr_matrix:
+        """Block-diagonal law tangent (n_governed x n_governed); assemble with ``B.T @ Kt @ B``."""
+        rows, cols, vals = [], [], []
+        for g, r in zip(self.groups, responses, strict=True):
+            n, m = g.n, g.dims
+            base = g.rows.start + m * np.arange(n)
+            idx = base[:, None] + np.arange(m)[None, :]
+            rows.append(np.repeat(idx, m, axis=1).reshape(-1))
+            cols.append(np.tile(idx, (1, m)).reshape(-1))
+            vals.append(np.asarray(r.tangent, dtype=float).reshape(-1))
+        if not rows:
+            return sp.csr_matrix((0, 0))
+        k = self.n_governed
+        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(k, k))
+
+    def spring_stiffness(self) -> sp.csr_matrix:
+        """``V^T diag(kv) V``: the vertical springs' stiffness in full DOFs."""
+        return (self.V.T @ sp.diags(self.kv) @ self.V).tocsr()
+
+    def tie_equations(self) -> list[Equation]:
+        eqs = []
+        for c, k in self.ties:
+            row = self.D.getrow(3 * c + k)
+            dofs, coeffs = row.indices.copy(), row.data.copy()
+            # Prefer eliminating the girder-side node j, then the support side i.
+            i_side, j_side = (tuple(int(d) for d in self.translations[c, s]) for s in (0, 1))
+            eqs.append(Equation(dofs, coeffs, "connector", c, k, (j_side, i_side)))
+        return eqs
+
+
+def build_connector_operators(model, dofmap: DofMap, registry: Registry | None = None) -> ConnectorOperators:
+    """Build the laws (grouped) and the operators ``D``, ``B``, ``V`` of ``model``'s connectors."""
+    connectors = model.connectors
+    n = len(connectors)
+    rows, cols, vals = [], [], []
+    translations = np.zeros((n, 2, 3), dtype=int)
+    for c, con in enumerate(connectors):
+        ti = dofmap.node_dofs(con.node_i)[:3]
+        tj = dofmap.node_dofs(con.node_j)[:3]
+        translations[c] = ti, tj
+        R = con.rotation
+        for k in range(3):
+            rows.extend([3 * c + k] * 6)
+            cols.extend([*tj, *ti])
+            vals.extend([*R[k], *(-R[k])])
+    D = sp.csr_matrix((vals, (rows, cols)), shape=(3 * n, dofmap.n_dof))
+    D.eliminate_zeros()
+
+    springs = [c for c, con in enumerate(connectors) if con.kind is not ConnectorKind.JOIN]
+    spring_row = {c: r for r, c in enumerate(springs)}
+    kv = np.array([connectors[c].vertical_stiffness for c in springs], dtype=float)
+    V = D[[3 * c + 2 for c in springs], :] if springs else sp.csr_matrix((0, dofmap.n_dof))
+
+    ties = [(c, k) for c, con in enumerate(connectors) for k in con.tied_directions]
+    # Group the law connectors by (law, params, dims), in order of first appearance.
+    by_key: dict[tuple, list[int]] = {}
+    for c, con in enumerate(connectors):
+        if con.dims:
+            by_key.setdefault(con.law_key, []).append(c)
+    registry = registry or get_registry()
+    groups, governed = [], []
+    for (name, params, dims), members in by_key.items():
+        who = "connector " + ", ".join(repr(connectors[c].name) for c in members)
+        law = _make_law(name, dict(params), dims, registry, who)
+        if law.rigid:
+            ties.extend((c, k) for c in members for k in connectors[c].law_directions)
+            continue
+        start = len(governed)
+        governed.extend((c, k) for c in members for k in connectors[c].law_directions)
+        groups.append(
+            LawGroup(
+                law,
+                np.array(members),
+                slice(start, len(governed)),
+                np.array([spring_row[c] for c in members], dtype=int),
+            )
+        )
+    B = D[[3 * c + k for c, k in governed], :] if governed else sp.csr_matrix((0, dofmap.n_dof))
+    return ConnectorOperators(
+        D=D.tocsr(),
+        B=B.tocsr(),
+        V=V.tocsr(),
+        kv=kv,
+        spring_connectors=np.array(springs, dtype=int),
+        groups=tuple(groups),
+        ties=tuple(ties),
+        governed=tuple(governed),
+        translations=translations,
+    )

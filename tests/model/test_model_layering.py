@@ -1,0 +1,38 @@
+"""The kernel reaches laws only through the protocol and the registry."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import bearingfw
+from bearingfw.plugins import get_registry
+
+KERNEL = [Path(bearingfw.__file__).parent / sub for sub in ("model", "analysis")]
+FORBIDDEN_IMPORTS = ("bearingfw.laws", "bearingfw.cli", "bearingfw.experiment", "bearingfw.motion", "bearingfw.tuning")
+
+
+def kernel_files():
+    files = [f for d in KERNEL for f in sorted(d.rglob("*.py"))]
+    assert files
+    return files
+
+
+def test_no_kernel_module_imports_a_law_or_a_higher_layer():
+    for path in kernel_files():
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = []
+            if isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom) and node.module:
+                names = [node.module] + [f"{node.module}.{a.name}" for a in node.names]
+            for name in names:
+                assert not name.startswith(FORBIDDEN_IMPORTS), f"{path.name} imports {name}"
+
+
+def test_no_kernel_module_names_a_concrete_law():
+    laws = set(get_registry().laws) | {"frictionless", "fixed", "linear-spring", "regularized-coulomb", "bouc-wen"}
+    for path in kernel_files():
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Constant) and isinstance(node.value, str):
+                assert node.value not in laws, f"{path.name} names the law {node.value!r}"

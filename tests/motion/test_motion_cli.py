@@ -25,8 +25,9 @@ def test_record_info_json_on_real_files(capsys, files):
     assert code == 0
     data = json.loads(out)
     values = [at2_values(p) for p in files]
-    for role, v in zip(("h1", "h2", "v"), values):
+    for role, v, component in zip(("h1", "h2", "v"), values, data["components"]):
         assert data["pga"][role] == pytest.approx(max(map(abs, v)) * G, rel=1e-12)
+        assert component["pga_before_resampling"] == data["pga"][role] and not component["resampled"]
     dt = data["dt"]
     assert data["arias"] == pytest.approx(sum(arias(np.array(v) * G, dt) for v in values[:2]), rel=1e-6)
     assert 0 < data["pga_h10"] <= np.hypot(data["pga"]["h1"], data["pga"]["h2"])
@@ -35,6 +36,27 @@ def test_record_info_json_on_real_files(capsys, files):
     assert data["synthetic"] is False
     lengths = [len(v) for v in values]
     assert data["padded"] == [c["name"] for c, k in zip(data["components"], lengths) if k < max(lengths)]
+    assert data["pga_h10_filter"]["order_per_pass"] == 4 and data["pga_h10_filter"]["passes"] == 2
+    spectrum = data["response_spectrum"]
+    assert spectrum["damping"] == 0.05 and 0.1 in spectrum["periods"] and 1.0 in spectrum["periods"]
+    for role in ("h1", "h2", "v"):
+        psa = spectrum["psa"][role]
+        assert len(psa) == len(spectrum["periods"]) and all(p > 0 for p in psa)
+        assert psa[0] == pytest.approx(data["pga"][role], rel=0.5)  # T = 0.05 s: near the peak ground acceleration
+
+
+def test_record_info_on_files_of_different_time_steps(capsys):
+    files = [CHUETSU[0], MANJIL[1], MANJIL[2]]
+    code, out, _ = run(capsys, "record", "info", *map(str, files), "--json")
+    data = json.loads(out)
+    assert code == 0 and data["resampled"] == ["T", "V"]
+    for path, component in zip(files, data["components"]):
+        # The acceptance check on the files as read, before resampling.
+        assert component["pga_before_resampling"] == pytest.approx(max(map(abs, at2_values(path))) * G, rel=1e-12)
+    assert data["components"][1]["pga"] > 1.02 * data["components"][1]["pga_before_resampling"]
+    assert len(data["notes"]) == 2
+    code, out, _ = run(capsys, "record", "info", *map(str, files))
+    assert "note: T resampled from dt = 0.02 s to 0.01 s" in out and "peak before resampling" in out
 
 
 def test_record_info_json_on_the_synthetic_tremor(capsys):
@@ -56,19 +78,69 @@ def test_record_info_table_says_synthetic_and_level_scaling_works(capsys):
     code, out, _ = run(capsys, "record", "info", "--synthetic", "2", "--level", "D_IV", "--json")
     data = json.loads(out)
     assert data["degree"] == "IV" and data["pga_h10"] == pytest.approx(1.10, rel=1e-6)
+    assert data["level"] == "D_IV" and data["levels"]["D_IV"] == 1.10
+
+
+def test_record_info_level_values_can_be_set(capsys):
+    code, out, _ = run(
+        capsys, "record", "info", "--synthetic", "2", "--level", "D_II", "--set-level", "D_II=0.5",
+        "--set-level", "D_III=0.8", "--json",
+    )
+    data = json.loads(out)
+    assert code == 0 and data["pga_h10"] == pytest.approx(0.5, rel=1e-6) and data["degree"] == "II"
+    assert data["levels"] == {"D_0": 0.10, "D_I": 0.23, "D_II": 0.5, "D_III": 0.8, "D_IV": 1.10}
+    code, out, _ = run(capsys, "record", "info", "--synthetic", "2", "--level", "II", "--set-level", "d2=0.55")
+    assert code == 0 and "to level D_II = 0.55 m/s^2" in out
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["--level", "D_II", "--set-level", "D_II=0.5", "--set-level", "d2=0.6"], "intensity level D_II is given twice"),
+        (["--level", "D_II", "--set-level", "D_II:0.5"], "--set-level expects LEVEL=VALUE"),
+        (["--level", "D_II", "--set-level", "D_II=half"], "--set-level expects LEVEL=VALUE"),
+        (["--level", "D_II", "--set-level", "D_V=0.5"], "unknown intensity level 'D_V'"),
+        (["--level", "D_II", "--set-level", "D_II=0.05"], "must increase from D_0 to D_IV"),
+        (["--set-level", "D_II=0.5"], "give --level as well"),
+        (["--dt", "0.01"], "--dt describe(s) record files; --synthetic SEED generates the record"),
+        (["--units", "g", "--format", "npz"], "--format, --units describe(s) record files"),
+    ],
+)
+def test_record_info_option_errors(capsys, argv, message):
+    code, _, err = run(capsys, "record", "info", "--synthetic", "1", *argv)
+    assert code == 1 and message in err, err
+
+
+def test_units_option_conflicting_with_the_file_is_an_error(capsys):
+    code, _, err = run(capsys, "record", "info", *map(str, CHUETSU), "--units", "cm/s^2")
+    assert code == 1 and f"{CHUETSU[0]}, line 3:" in err and "states g but units = 'cm/s^2' was given" in err
+    code, _, _ = run(capsys, "record", "info", *map(str, CHUETSU), "--units", "g", "--json")
+    assert code == 0
 
 
 def test_record_info_plot_writes_figures(capsys, tmp_path):
     code, out, _ = run(capsys, "record", "info", *map(str, MANJIL), "--plot", str(tmp_path))
     assert code == 0
     pngs = sorted(tmp_path.glob("*.png"))
-    assert {p.stem.rsplit("_", 1)[1] for p in pngs} == {"acceleration", "fourier", "intensity"}
+    assert {p.stem.rsplit("_", 1)[1] for p in pngs} == {"acceleration", "fourier", "intensity", "spectrum"}
     for path in pngs:
         assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 5000
         assert path.with_suffix(".svg").stat().st_size > 5000
     code, out, _ = run(capsys, "record", "info", "--synthetic", "0", "--plot", str(tmp_path / "syn"))
     svg = (tmp_path / "syn" / "synthetic-seed0_acceleration.svg").read_text()
     assert "SYNTHETIC" in svg
+    assert "SYNTHETIC" in (tmp_path / "syn" / "synthetic-seed0_spectrum.svg").read_text()
+
+
+def test_a_real_record_named_like_a_synthetic_one_is_plotted(tmp_path):
+    from bearingfw.motion import Record
+    from bearingfw.motion.plot import write_figures
+
+    t = np.arange(400) * 0.01
+    record = Record(h1=np.sin(7 * t), h2=np.cos(5 * t), v=np.sin(3 * t), dt=0.01, source="a real file")
+    written = write_figures(record, tmp_path, stem="synthetic-seed7", formats=("svg",))  # KeyError 'seed' before
+    chart = next(p for p in written if p.stem.endswith("_intensity")).read_text()
+    assert "synthetic-seed7" in chart and "SYNTHETIC" not in chart
 
 
 def test_column_file_needs_dt_and_units_options(capsys, tmp_path):
@@ -99,8 +171,9 @@ def test_help_texts(capsys):
         main(["record", "info", "--help"])
     assert info.value.code == 0
     out = capsys.readouterr().out
-    for option in ("--dt", "--units", "--scale", "--synthetic", "--json", "--plot", "--format"):
+    for option in ("--dt", "--units", "--scale", "--synthetic", "--json", "--plot", "--format", "--set-level"):
         assert option in out
+    assert "for files that do not state them" in " ".join(out.split())
 
 
 def test_plugins_lists_readers_and_scales(capsys):

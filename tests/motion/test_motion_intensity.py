@@ -14,9 +14,11 @@ from bearingfw.motion import (
     DEFAULT_SCALE,
     IntensityLevels,
     IntensityMismatchError,
+    LEVEL_NAMES,
     IntensityScale,
     Record,
     get_scale,
+    level_degree,
     pga_h10,
     record_degree,
     scale_to_level,
@@ -81,12 +83,30 @@ def test_default_levels_lie_inside_their_degrees_for_long_tremors():
 def test_levels_can_be_overridden_and_are_checked():
     levels = IntensityLevels.with_overrides({"D_II": 0.5, "d3": 0.8})
     assert levels["D_II"] == 0.5 and levels["III"] == 0.8 and levels["D_0"] == 0.10
-    with pytest.raises(ParameterError, match="must increase"):
+    assert IntensityLevels.with_overrides([("D_IV", 1.2), ("1", 0.2)]).as_dict()["D_I"] == 0.2
+    with pytest.raises(ParameterError, match=r"must increase from D_0 to D_IV, got D_0 = 0.1, D_I = 0.05"):
         IntensityLevels(d1=0.05)
-    with pytest.raises(ParameterError, match=r"'d0' = -0.1 is outside the allowed range d0 > 0"):
+    with pytest.raises(ParameterError, match=r"D_0 = -0.1 is outside the allowed range D_0 > 0"):
         IntensityLevels(d0=-0.1)
+    with pytest.raises(ParameterError, match=r"D_III = str 'x' is outside the allowed range D_III > 0"):
+        IntensityLevels(d3="x")
     with pytest.raises(ParameterError, match="unknown intensity level"):
         levels["D_V"]
+
+
+@pytest.mark.parametrize(
+    "overrides",
+    [{"D_II": 0.5, "d2": 0.6}, {"II": 0.5, "2": 0.5}, [("D_II", 0.5), ("D_II", 0.6)]],
+    ids=["two-spellings", "same-value", "pairs"],
+)
+def test_a_level_given_twice_is_an_error(overrides):
+    with pytest.raises(ParameterError, match=r"intensity level D_II is given twice"):
+        IntensityLevels.with_overrides(overrides)
+
+
+def test_level_names_come_from_the_default_scale():
+    assert LEVEL_NAMES == tuple(f"D_{d}" for d in DEFAULT_SCALE.degrees) == ("D_0", "D_I", "D_II", "D_III", "D_IV")
+    assert [level_degree(name) for name in LEVEL_NAMES] == list(DEFAULT_SCALE.degrees)
 
 
 def test_scale_table_is_validated():
@@ -101,6 +121,25 @@ def test_scale_table_is_validated():
     with pytest.raises(ParameterError, match="PGA_H10 must be finite"):
         IntensityScale(**good).degree(float("nan"), 1.0)
     assert IntensityScale.from_dict(DEFAULT_SCALE.to_dict()) == DEFAULT_SCALE
+    with pytest.raises(ParameterError, match=r"every bound must be a finite number > 0"):
+        IntensityScale(**{**good, "bounds": ((0.1, "x"), (0.3, 0.4))})
+
+
+def test_degrees_must_be_a_sequence_of_labels_not_a_string():
+    good = dict(name="x", degrees=("a", "b"), durations=(1.0,), bounds=((0.1,), (0.3,)))
+    with pytest.raises(ParameterError, match=r"'degrees' must be distinct non-empty labels.*got 'ab'"):
+        IntensityScale(**{**good, "degrees": "ab"})
+    assert IntensityScale(**{**good, "degrees": ["a", "b"]}).degrees == ("a", "b")
+
+
+def test_from_dict_names_missing_and_unknown_fields():
+    data = DEFAULT_SCALE.to_dict()
+    del data["bounds"], data["durations"]
+    with pytest.raises(ParameterError, match=r"intensity scale 'usb-pga-h10': missing field\(s\) 'durations', 'bounds'"):
+        IntensityScale.from_dict(data)
+    with pytest.raises(ParameterError, match=r"unknown field\(s\) 'colour'"):
+        IntensityScale.from_dict({**DEFAULT_SCALE.to_dict(), "colour": "red"})
+    assert IntensityScale.from_dict({k: v for k, v in DEFAULT_SCALE.to_dict().items() if k != "description"}).name
 
 
 def boxcar_sine(duration: float, dt: float = 0.005, f: float = 4.0) -> Record:

@@ -7,14 +7,21 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+from scipy import signal
+
 from bearingfw.motion import (
+    DEFAULT_DAMPING,
     G,
+    H10_FILTER,
+    Record,
     arias_intensity,
     band_energy_fraction,
     dominant_frequency,
     fourier_spectrum,
+    lowpass,
     peak,
     pga_h10,
+    record_summary,
     response_spectrum,
     t_ha,
 )
@@ -35,6 +42,31 @@ def test_pga_h10_removes_25_hz_and_keeps_3_hz(dt):
     assert pga_h10(h1, np.zeros_like(h1), dt) == pytest.approx(0.3, rel=0.01)
     # The same on the other horizontal: the measure treats both alike.
     assert pga_h10(np.zeros_like(h1), h1, dt) == pytest.approx(0.3, rel=0.01)
+
+
+@pytest.mark.parametrize("f, gain", [(10.0, 0.5), (12.0, 1 / (1 + 1.2**8)), (8.0, 1 / (1 + 0.8**8))])
+def test_pga_h10_filter_gain_is_that_of_a_4th_order_butterworth_run_twice(f, gain):
+    # The decision: a 4th-order Butterworth at 10 Hz, forward and backward: 1 / (1 + (f/10)^8)
+    # in amplitude; a 2nd-order pair would give 0.33 at 12 Hz and 0.71 at 8 Hz.
+    dt = 0.001  # fine: the digital filter's frequency warping stays below 0.5 %
+    t, a = sine(f, 1.0, 12.0, dt)
+    filtered = lowpass(a, dt)
+    middle = slice(t.size // 4, 3 * t.size // 4)
+    assert np.max(np.abs(filtered[middle])) == pytest.approx(gain, rel=5e-3)
+    assert pga_h10(a, np.zeros_like(a), dt) == pytest.approx(gain, rel=5e-3)
+    assert H10_FILTER.gain(f) == pytest.approx(gain, rel=1e-12)
+
+
+def test_pga_h10_filter_is_described_once_and_reported():
+    spec = H10_FILTER.to_dict()
+    assert (spec["cutoff_hz"], spec["order_per_pass"], spec["passes"], spec["overall_order"]) == (10.0, 4, 2, 8)
+    assert spec["gain_at_cutoff"] == 0.5 and spec["minus_3db_hz"] == pytest.approx(8.9568, abs=1e-4)
+    t, a = sine(3.0, 0.3, 10.0, 0.005)
+    record = Record(h1=a, h2=a, v=a, dt=0.005)
+    assert record_summary(record)["pga_h10_filter"] == spec
+    # Zero phase: the filtered 3 Hz sine is the sine times the gain, not shifted.
+    middle = slice(500, 1500)
+    np.testing.assert_allclose(lowpass(a, 0.005)[middle], H10_FILTER.gain(3.0) * a[middle], atol=1e-3 * 0.3)
 
 
 def test_pga_h10_is_the_peak_of_the_resultant():
@@ -115,12 +147,44 @@ def test_response_spectrum_of_a_harmonic_input_matches_the_closed_form(zeta):
     assert spectrum.psa == pytest.approx((2 * np.pi / periods) ** 2 * spectrum.sd)
 
 
+def test_response_spectrum_default_damping_is_five_percent():
+    dt, amplitude, forcing = 0.002, 0.8, 2.0
+    t, a = sine(forcing, amplitude, 12.0, dt)
+    periods = np.array([0.25, 0.5, 1.5])
+    spectrum = response_spectrum(a, dt, periods)
+    assert DEFAULT_DAMPING == 0.05 and spectrum.damping == 0.05
+    for T, sd in zip(periods, spectrum.sd):
+        assert sd == pytest.approx(np.max(np.abs(sdof_closed_form(t, T, 0.05, amplitude, forcing))), rel=5e-4)
+
+
 def test_response_spectrum_tends_to_pga_at_short_periods():
+    # Content well below 1/T: the oscillator follows the ground (the piecewise-linear input has
+    # kinks at the samples, so the signal must be smooth on the scale of dt for this to hold).
     dt = 0.005
     rng = np.random.default_rng(5)
-    a = np.convolve(rng.normal(size=2000), np.hanning(15), mode="same")  # smooth, band-limited
-    spectrum = response_spectrum(a, dt, periods=[0.005])
-    assert spectrum.psa[0] == pytest.approx(peak(a), rel=0.01)
+    a = np.convolve(rng.normal(size=2000), np.hanning(41), mode="same")  # smooth, band-limited
+    spectrum = response_spectrum(a, dt, periods=[0.005, 0.01, 0.02])
+    assert spectrum.psa == pytest.approx(np.full(3, peak(a)), rel=0.01)
+
+
+def finely_sampled_reference(a, dt, period, zeta, sub=50):
+    """Peak |u| by scipy's lsim on the linearly interpolated input sampled every dt / sub."""
+    w = 2 * np.pi / period
+    t = np.arange(a.size) * dt
+    fine = np.arange((a.size - 1) * sub + 1) * (dt / sub)
+    _, u, _ = signal.lsim(([-1.0], [1.0, 2 * zeta * w, w * w]), np.interp(fine, t, a), fine)
+    return np.max(np.abs(u))
+
+
+@pytest.mark.parametrize("steps_per_period", [2.0, 2.5, 3.0])
+def test_response_spectrum_is_accurate_at_periods_of_a_few_steps(steps_per_period):
+    # Sampled once per step, the response at T = 2 dt lost half its peak: sub-stepping keeps it.
+    dt = 0.01
+    rng = np.random.default_rng(11)
+    a = np.concatenate([np.zeros(5), rng.normal(size=400)])
+    period = steps_per_period * dt
+    exact = finely_sampled_reference(a, dt, period, 0.05)
+    assert response_spectrum(a, dt, [period]).sd[0] == pytest.approx(exact, rel=0.03)
 
 
 def test_measures_reject_bad_input():

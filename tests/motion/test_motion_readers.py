@@ -1,14 +1,30 @@
 """Record readers: the real PEER files, the other formats, and malformed files."""
 
 import math
+import re
 
 import numpy as np
 import pytest
 from conftest import CHUETSU, G, MANJIL, RECORDS, at2_values
 
-from bearingfw.motion import Record, RecordFormatError, Trace, assemble, read_at2, read_record, resample
+import types
+
+from bearingfw.motion import (
+    Record,
+    RecordFormatError,
+    Trace,
+    assemble,
+    find_reader,
+    fourier_spectrum,
+    read_at2,
+    read_record,
+    record_summary,
+    resample,
+    synthetic_tremor,
+)
 from bearingfw.motion.errors import UnknownReaderError
 from bearingfw.parameters import ParameterError
+from bearingfw.plugins.contracts import RecordReader, check_suffixes
 
 
 def test_copied_records_keep_their_crlf_line_ends():
@@ -18,12 +34,41 @@ def test_copied_records_keep_their_crlf_line_ends():
     assert (RECORDS / "README.md").is_file()
 
 
-@pytest.mark.parametrize("files", [CHUETSU, MANJIL], ids=["chuetsu", "manjil"])
+MIXED = [CHUETSU[0], MANJIL[1], MANJIL[2]]  # 0.01 s and 0.02 s: two components are resampled
+
+
+@pytest.mark.parametrize("files", [CHUETSU, MANJIL, MIXED], ids=["chuetsu", "manjil", "mixed-dt"])
 def test_real_record_peaks_equal_file_maximum_times_g(files):
+    # The acceptance check is on each file's trace as read, before any resampling.
     record = read_record(files)
-    for path, values in zip(files, record.components):
+    summary = record_summary(record)
+    for i, path in enumerate(files):
         expected = max(abs(v) for v in at2_values(path)) * G
-        assert math.isclose(np.max(np.abs(values)), expected, rel_tol=1e-12), path.name
+        (trace,) = read_at2(path)
+        assert math.isclose(np.max(np.abs(trace.in_si())), expected, rel_tol=1e-12), path.name
+        assert math.isclose(summary["components"][i]["pga_before_resampling"], expected, rel_tol=1e-12), path.name
+        if not record.was_resampled[i]:
+            assert math.isclose(np.max(np.abs(record.components[i])), expected, rel_tol=1e-12), path.name
+
+
+def test_resampled_peaks_are_reported_before_and_after():
+    record = read_record(MIXED)
+    assert record.dt == pytest.approx(0.01)
+    assert record.was_resampled == (False, True, True)
+    assert record.resampled_components == ("T", "V")
+    # Band-limited upsampling raises the peaks (Manjil T by about 4 %): the record says so.
+    before = [max(abs(v) for v in at2_values(p)) * G for p in MIXED]
+    assert record.metadata["peaks_before_resampling"] == pytest.approx(before, rel=1e-12)
+    assert np.max(np.abs(record.h2)) > 1.02 * before[1]
+    notes = record.notes
+    assert len(notes) == 2 and all("resampled from dt = 0.02 s to 0.01 s" in n for n in notes)
+    assert f"{before[1]:.4g} m/s^2 before" in notes[0]
+    summary = record_summary(record)
+    assert [c["resampled"] for c in summary["components"]] == [False, True, True]
+    assert summary["notes"] == list(notes)
+    # Scaling scales the stored peaks with the record.
+    scaled = record.scaled(2.0)
+    assert record_summary(scaled)["components"][1]["pga_before_resampling"] == pytest.approx(2 * before[1])
 
 
 def test_chuetsu_header_data(chuetsu):
@@ -112,6 +157,24 @@ def test_npz_round_trip(tmp_path, manjil):
     again = read_record(path)
     np.testing.assert_array_equal(again.components, manjil.components)
     assert again.dt == manjil.dt and again.names == manjil.names
+    assert again.padded_components == manjil.padded_components and again.lengths == manjil.lengths
+    assert again.source_units == ("g", "g", "g")
+    assert again.source == manjil.source and again.title == manjil.title
+
+
+def test_npz_round_trip_keeps_scale_factor_and_synthetic_metadata(tmp_path, manjil):
+    scaled = manjil.scaled(2.5)
+    again = read_record(scaled.to_npz(tmp_path / "scaled.npz"))
+    np.testing.assert_array_equal(again.components, scaled.components)
+    assert again.metadata["scale_factor"] == 2.5
+    assert again.source == manjil.source and again.title == scaled.title  # not "scaled x2.5" twice
+    assert again.padded_components == manjil.padded_components
+    tremor = synthetic_tremor(3).resampled(0.0025)
+    back = read_record(tremor.to_npz(tmp_path / "tremor.npz"))
+    assert back.synthetic and back.title == tremor.title
+    assert back.metadata["seed"] == 3 and back.metadata["parameters"] == tremor.metadata["parameters"]
+    assert back.was_resampled == tremor.was_resampled == (True, True, True)
+    assert back.notes == tremor.notes
 
 
 def test_npz_stacked_array_and_time(tmp_path):
@@ -146,6 +209,45 @@ def test_resample_down_and_rejects_incommensurate_steps():
     np.testing.assert_allclose(y[50:-50], x[::2][50:-50], atol=0.01)
     with pytest.raises(ParameterError, match="cannot resample"):
         resample(x, 0.005, 0.005 * math.pi)
+
+
+@pytest.mark.parametrize("n, dt_from, dt_to", [(1000, 0.005, 0.01), (999, 0.005, 0.01), (301, 0.02, 0.005), (77, 0.01, 0.004)])
+def test_resample_covers_the_input_up_to_its_last_sample_plus_one_step(n, dt_from, dt_to):
+    y = resample(np.ones(n), dt_from, dt_to)
+    # One output sample at every k dt_to < n dt_from, as the docstring says.
+    assert (y.size - 1) * dt_to < n * dt_from - 1e-12 and y.size * dt_to >= n * dt_from - 1e-12
+
+
+@pytest.mark.parametrize("dt_to", [0, 0.0, -0.01, float("nan")])
+def test_resample_rejects_a_non_positive_step(dt_to):
+    with pytest.raises(ParameterError, match=r"dt_to = .* is outside the allowed range dt_to > 0"):
+        resample(np.ones(10), 0.01, dt_to)
+    with pytest.raises(ParameterError, match=r"dt_from = .* is outside the allowed range dt_from > 0"):
+        resample(np.ones(10), dt_to, 0.01)
+
+
+def test_resampling_to_a_coarser_step_removes_what_would_alias():
+    dt, coarse = 0.005, 0.02  # Nyquist 100 Hz -> 25 Hz: 40 Hz would fold onto 10 Hz
+    t = np.arange(0, 20, dt)
+    x = np.sin(2 * np.pi * 2.0 * t) + np.sin(2 * np.pi * 40.0 * t)
+    y = resample(x, dt, coarse)
+    f, amplitude = fourier_spectrum(y, coarse)
+    at = lambda freq: amplitude[np.argmin(np.abs(f - freq))]  # noqa: E731
+    assert at(2.0) == pytest.approx(20.0 / 2, rel=0.02)  # A T / 2 of the kept 2 Hz sine
+    assert at(10.0) < 0.01 * at(2.0)  # plain decimation x[::4] would put the 40 Hz sine here
+    f_naive, naive = fourier_spectrum(x[::4], coarse)
+    assert naive[np.argmin(np.abs(f_naive - 10.0))] > 0.5 * at(2.0)
+
+
+def test_resampling_a_padded_record_keeps_its_padding_zero(manjil):
+    fine = manjil.resampled(0.005)
+    assert fine.padded_components == manjil.padded_components
+    for values, k_old, k_new in zip(fine.components, manjil.original_lengths, fine.original_lengths):
+        assert k_new == 4 * k_old
+        assert np.all(values[k_new:] == 0.0)  # the filter's ringing stays inside the component
+    # Each component is the component resampled on its own, not the padded one.
+    short = manjil.original_lengths[1]
+    np.testing.assert_allclose(fine.h2[: 4 * short], resample(manjil.h2[:short], 0.02, 0.005), rtol=0, atol=1e-12)
 
 
 def test_record_rejects_unequal_lengths_and_nan():
@@ -293,3 +395,224 @@ def test_malformed_npz_names_array_and_index(tmp_path):
     np.savez(tmp_path / "neg.npz", h1=np.zeros(20), h2=np.zeros(20), v=np.zeros(20), dt=-0.01, units="g")
     with pytest.raises(RecordFormatError, match=r"neg.npz: array 'dt' = -0.01 s; the time step must be > 0"):
         read_record(tmp_path / "neg.npz")
+
+
+# -- what a file states wins over the arguments ---------------------------------------------
+
+
+def test_units_argument_is_only_for_files_that_do_not_state_units(tmp_path):
+    with pytest.raises(RecordFormatError, match="states g but units = 'cm/s\\^2' was given") as info:
+        read_record(CHUETSU, units="cm/s^2")
+    assert info.value.path == str(CHUETSU[0]) and info.value.line == 3
+    assert read_record(CHUETSU, units="G").source_units == ("g", "g", "g")  # agreeing is fine
+    # Columns: a '# units' comment and a bracketed unit are statements too.
+    path = tmp_path / "stated.txt"
+    path.write_text("# units: g\n# dt: 0.01\n1 2 3\n-4 5 6\n")
+    with pytest.raises(RecordFormatError, match=r"stated.txt, line 1: the '# units' comment states g but units = 'm/s\^2'"):
+        read_record(path, units="m/s^2")
+    named = tmp_path / "named.csv"
+    named.write_text("a [cm/s^2],b [cm/s^2],c [cm/s^2]\n1,2,3\n-4,5,6\n")
+    with pytest.raises(RecordFormatError, match=r"named.csv, line 1: column 'a \[cm/s\^2\]' states cm/s\^2"):
+        read_record(named, dt=0.01, units="g")
+    # A file that does not state them takes the argument.
+    bare = tmp_path / "bare.txt"
+    bare.write_text("1 2 3\n-4 5 6\n")
+    assert read_record(bare, dt=0.01, units="cm/s^2").h1[1] == pytest.approx(-0.04)
+    # .npz: the 'units' array.
+    np.savez(tmp_path / "u.npz", h1=np.ones(4), h2=np.ones(4), v=np.ones(4), dt=0.01, units="g")
+    with pytest.raises(RecordFormatError, match=r"u.npz: array 'units' states g but units = 'cm/s\^2'"):
+        read_record(tmp_path / "u.npz", units="cm/s^2")
+
+
+def _at2(tmp_path, units_line, data_lines, npts, name="x.AT2"):
+    header = _lines(CHUETSU[0])[:2] + [units_line, f"NPTS=   {npts}, DT=   .0100 SEC"]
+    return _write(tmp_path, header + data_lines + [""], name)
+
+
+@pytest.mark.parametrize(
+    "units_line, units",
+    [
+        ("ACCELERATION TIME SERIES IN UNITS OF CM/S^2", "cm/s^2"),
+        ("ACCELERATION TIME SERIES IN UNITS OF CM/SEC/SEC", "cm/s^2"),
+        ("ACCELERATION TIME SERIES IN UNITS OF G.", "g"),
+        ("ACCELERATION (G)", "g"),
+        ("ACCELERATION TIME SERIES, UNITS OF (G)", "g"),
+        ("acceleration in units of g", "g"),
+    ],
+)
+def test_at2_unit_spellings(tmp_path, units_line, units):
+    (trace,) = read_at2(_at2(tmp_path, units_line, ["  .1000000E+01  -.2500000E+01"], 2))
+    assert trace.units == units
+    np.testing.assert_array_equal(trace.values, [1.0, -2.5])
+
+
+def test_at2_in_cm_per_s2_is_converted(tmp_path):
+    path = _at2(tmp_path, "ACCELERATION TIME SERIES IN UNITS OF CM/S^2", ["  .1250000E+02  -.5000000E+01   .0"], 3)
+    record = read_record([path, path, path])
+    assert record.source_units == ("cm/s^2",) * 3
+    np.testing.assert_allclose(record.h1, [0.125, -0.05, 0.0], rtol=1e-12)
+
+
+def test_at2_without_units_takes_the_argument(tmp_path):
+    path = _at2(tmp_path, "ACCELERATION (FILTERED)", ["  .1  .2"], 2)
+    with pytest.raises(RecordFormatError, match=r"line 3: no units on line 3"):
+        read_at2(path)
+    assert read_at2(path, units="m/s^2")[0].units == "m/s^2"
+
+
+def test_at2_glued_fixed_width_values(tmp_path):
+    data = ["  0.1000000E-02-0.1230000E-02-0.4560000E-02", " -0.7000000E-03+.5E-3 1.0D-03"]
+    (trace,) = read_at2(_at2(tmp_path, "UNITS OF G", data, 6))
+    np.testing.assert_array_equal(trace.values, [0.001, -0.00123, -0.00456, -0.0007, 0.0005, 0.001])
+
+
+@pytest.mark.parametrize("token", ["0.1E-02junk", "1_0", "1.0-103", "1.2.3", "0x10", "--1.0"])
+def test_at2_line_must_be_read_to_its_end(tmp_path, token):
+    # float() would take '1_0'; a tokeniser that stops early would drop 'junk' silently.
+    path = _at2(tmp_path, "UNITS OF G", ["  .1   .2", f"  .3  {token}"], 4)
+    with pytest.raises(RecordFormatError, match=f"x.AT2, line 6: '{re.escape(token)}' is not a number"):
+        read_at2(path)
+
+
+# -- column files: first rows, delimiters, time columns --------------------------------------
+
+
+def test_byte_order_mark_does_not_hide_the_first_sample(tmp_path):
+    path = tmp_path / "bom.csv"
+    path.write_bytes("0.1,0.2,0.3\n-0.4,0.5,0.6\n0.7,0.8,0.9\n".encode("utf-8-sig"))
+    record = read_record(path, dt=0.01, units="m/s^2")
+    np.testing.assert_array_equal(record.h1, [0.1, -0.4, 0.7])
+    commented = tmp_path / "bom_comment.csv"
+    commented.write_bytes("# units: g\n# dt: 0.02\n1,2,3\n-4,5,6\n".encode("utf-8-sig"))
+    assert read_record(commented).dt == 0.02
+
+
+def test_latin1_header_is_still_read(tmp_path):
+    path = tmp_path / "latin.csv"
+    path.write_bytes("time [s],Ost [g],Nord [g],Höhe [g]\n0,1,2,3\n0.01,1,2,3\n0.02,1,2,3\n".encode("latin-1"))
+    assert read_record(path).names == ("Ost", "Nord", "Höhe")
+
+
+def test_a_typo_in_the_first_row_is_an_error_not_a_header(tmp_path):
+    path = tmp_path / "typo.csv"
+    path.write_text("0.1,0.2,x3\n-0.4,0.5,0.6\n0.7,0.8,0.9\n")
+    with pytest.raises(RecordFormatError, match=r"typo.csv, line 1: 'x3' is not a number"):
+        read_record(path, dt=0.01, units="g")
+
+
+def test_trailing_delimiters_are_ignored(tmp_path):
+    path = tmp_path / "trailing.csv"
+    path.write_text("t,a [g],b [g],c [g],\n0,1,2,3,\n0.01,-1,2,3,\n0.02,1,2,3,\n")
+    record = read_record(path)
+    assert record.dt == pytest.approx(0.01) and record.names == ("a", "b", "c")
+    np.testing.assert_allclose(record.h1 / G, [1, -1, 1])
+
+
+@pytest.mark.parametrize("header", ["t;a [g];b [g];c [g]\n", "# units: g\n"], ids=["named", "unnamed"])
+def test_decimal_commas_with_semicolons(tmp_path, header):
+    path = tmp_path / "comma.csv"
+    path.write_text(header + "0,00;1,5;-2,5;3,5\n0,01;1,25;2,5;3,5\n0,02;1,5;2,5;3,5\n")
+    record = read_record(path)
+    assert record.dt == pytest.approx(0.01) and record.n == 3
+    np.testing.assert_allclose(record.h1 / G, [1.5, 1.25, 1.5])
+    np.testing.assert_allclose(record.h2 / G, [-2.5, 2.5, 2.5])
+
+
+def test_time_column_is_found_when_dt_is_also_given(tmp_path):
+    path = tmp_path / "timed.txt"
+    path.write_text("# units: g\n" + "".join(f"{0.005 * k:.3f} {(-1) ** k} 2 3\n" for k in range(20)))
+    record = read_record(path, dt=0.005)  # the time column is not taken for a fourth component
+    assert record.dt == 0.005 and record.h1[:2] == pytest.approx([G, -G])
+    with pytest.raises(RecordFormatError, match=r"timed.txt, line 3: the first column .* gives dt = 0.005 s but dt = 0.01 s"):
+        read_record(path, dt=0.01)
+    commented = tmp_path / "commented.txt"
+    commented.write_text("# dt: 0.01\n" + path.read_text())
+    with pytest.raises(RecordFormatError, match=r"commented.txt, line 1: the '# dt' comment gives dt = 0.01 s but"):
+        read_record(commented)
+
+
+@pytest.mark.parametrize("named", [True, False], ids=["named", "unnamed"])
+def test_irregular_time_column_is_reported_as_such(tmp_path, named):
+    path = tmp_path / "irregular.txt"
+    rows = [f"{t:g} {(-1) ** k} 2 3" for k, t in enumerate([0.0, 0.01, 0.02, 0.035, 0.04, 0.05])]
+    path.write_text("\n".join((["time ax[g] ay[g] az[g]"] if named else ["# units: g"]) + rows) + "\n")
+    with pytest.raises(RecordFormatError, match=r"irregular.txt, line 5: .*time step 0.015 s differs from the mean step"):
+        read_record(path)
+
+
+def test_time_step_tolerance_is_one_per_mille(tmp_path):
+    def write(name, jitter):
+        # Times k dt +- jitter: each step deviates from dt by up to 2 jitter.
+        times = np.arange(50) * 0.01 + jitter * (-1.0) ** np.arange(50)
+        path = tmp_path / name
+        path.write_text("# units: g\n" + "".join(f"{t:.8f} {(-1) ** k} 2 3\n" for k, t in enumerate(times)))
+        return path
+
+    assert read_record(write("jitter.txt", 0.4e-3 * 0.01 / 2)).dt == pytest.approx(0.01, rel=1e-4)  # 0.04 %
+    with pytest.raises(RecordFormatError, match=r"uneven.txt, line 3: .*by more than 0.1%: samples must be equally spaced"):
+        read_record(write("uneven.txt", 1.2e-3 * 0.01 / 2))  # 0.12 %
+    ts = np.arange(5) * 0.01
+    ts[3] += 0.6e-5  # the steps around it are 0.06 % longer and shorter: equal within the tolerance
+    np.savez(tmp_path / "t.npz", h1=np.ones(5), h2=np.ones(5), v=np.ones(5), time=ts, units="g")
+    assert read_record(tmp_path / "t.npz").dt == pytest.approx(0.01, rel=1e-3)
+    ts[3] += 1.0e-5
+    np.savez(tmp_path / "t.npz", h1=np.ones(5), h2=np.ones(5), v=np.ones(5), time=ts, units="g")
+    with pytest.raises(RecordFormatError, match=r"t.npz, array 'time', index 3: time step .* samples must be equally spaced"):
+        read_record(tmp_path / "t.npz")
+
+
+# -- .npz archives -----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "arrays, where",
+    [
+        (dict(h1=np.array([1, "a"], dtype=object)), "array 'h1': cannot load the array"),
+        (dict(dt=np.array([0.01, 0.02])), r"array 'dt': must be a single number, got an array of shape \(2,\)"),
+        (dict(dt="fast"), r"array 'dt': must be a single number, got 'fast'"),
+        (dict(h1=np.zeros((2, 4))), r"array 'h1': must be 1-D with at least 2 samples, got shape \(2, 4\)"),
+        (dict(units=np.array(["g", "g"])), r"array 'units': must be a single text"),
+        (dict(names=np.array(["a", "b"])), r"array 'names': must be 3 strings"),
+        (dict(time=np.arange(4) * 0.02), r": array 'time' gives dt = 0.02 s but array 'dt' gives 0.01 s"),
+        (dict(lengths=np.array([4, 9, 4])), r"array 'lengths', index 1: 9 is not between 2 and the length 4"),
+        (dict(metadata="{oops"), r"array 'metadata': is not a JSON object"),
+    ],
+    ids=["object", "dt-vector", "dt-text", "2-d", "units-vector", "names", "dt-vs-time", "lengths", "metadata"],
+)
+def test_malformed_npz_names_the_array(tmp_path, arrays, where):
+    base = dict(h1=np.zeros(4), h2=np.zeros(4), v=np.zeros(4), dt=0.01, units="g")
+    path = tmp_path / "bad.npz"
+    np.savez(path, **{**base, **arrays})  # np.savez pickles object arrays; the reader must refuse them
+    with pytest.raises(RecordFormatError, match=rf"bad.npz(, |){where}"):
+        read_record(path)
+
+
+def test_npz_that_is_not_an_archive(tmp_path):
+    np.save(tmp_path / "single.npy", np.zeros(5))
+    with pytest.raises(RecordFormatError, match="a single .npy array, not an .npz archive"):
+        read_record(tmp_path / "single.npy", format="npz")
+
+
+# -- readers of plugins ------------------------------------------------------------------------
+
+
+def test_reader_suffixes_match_whatever_their_case(tmp_path):
+    read = lambda path, **kw: []  # noqa: E731
+    upper = types.SimpleNamespace(name="upper", suffixes=(".FAKE",), read=read, sniff=None)
+    registry = types.SimpleNamespace(record_readers={"upper": types.SimpleNamespace(value=upper)})
+    for name in ("motion.fake", "MOTION.FAKE", "motion.Fake"):
+        assert find_reader(tmp_path / name, registry=registry) is upper
+    assert RecordReader(name="r", suffixes=(".AT2", ".Txt"), read=read).suffixes == (".at2", ".txt")
+
+
+@pytest.mark.parametrize("suffixes", [".at2", ("at2",), (".",), (".at2", 3), None])
+def test_one_suffix_check_for_readers_and_the_registry(suffixes):
+    from bearingfw.plugins.registry import _reader_key
+
+    with pytest.raises(ParameterError, match=r"record reader 'r': 'suffixes' must be a tuple of file-name endings"):
+        check_suffixes("r", suffixes)
+    with pytest.raises(ParameterError, match=r"record reader 'r': 'suffixes' must be a tuple"):
+        _reader_key(types.SimpleNamespace(name="r", suffixes=suffixes, read=print))
+    if not isinstance(suffixes, str):  # RecordReader takes one ending as a string, for convenience
+        with pytest.raises(ParameterError, match=r"record reader 'r': 'suffixes' must be a tuple"):
+            RecordReader(name="r", suffixes=suffixes, read=print)

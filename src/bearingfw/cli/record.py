@@ -1,4 +1,4 @@
-"""``bearingfw record``: look at ground-motion records (``info``: peaks, PGA_H10, t_Ha, degree)."""
+"""``bearingfw record``: look at ground-motion records (``info``: peaks, PGA_H10, t_Ha, degree, spectra)."""
 
 from __future__ import annotations
 
@@ -24,10 +24,10 @@ def add_parser(subparsers) -> None:
 
     info = commands.add_parser(
         "info",
-        help="peaks, PGA_H10, t_Ha, Arias intensity, dominant frequencies and intensity degree",
+        help="peaks, PGA_H10, t_Ha, Arias intensity, dominant frequencies, response spectra and intensity degree",
         description=textwrap.fill(
-            "Print per-component peaks, Arias intensity and dominant frequency, and the record's "
-            "PGA_H10, t_Ha, horizontal Arias intensity and intensity degree. FILEs are read in the order "
+            "Print per-component peaks, Arias intensity, dominant frequency and 5 % response spectrum, and the "
+            "record's PGA_H10, t_Ha, horizontal Arias intensity and intensity degree. FILEs are read in the order "
             "horizontal 1, horizontal 2, vertical (three one-component files such as .AT2, or one file "
             "with three acceleration columns). Accelerations are reported in m/s^2.",
             width=88,
@@ -35,27 +35,44 @@ def add_parser(subparsers) -> None:
         epilog="examples:\n"
         "  bearingfw record info RSN4843_CHUETSU_65006EW.AT2 RSN4843_CHUETSU_65006NS.AT2 RSN4843_CHUETSU_65006UD.AT2\n"
         "  bearingfw record info tremor.csv --dt 0.005 --units cm/s^2 --json\n"
-        "  bearingfw record info --synthetic 1 --plot figures/",
+        "  bearingfw record info --synthetic 1 --plot figures/\n"
+        "  bearingfw record info --synthetic 1 --level D_II --set-level D_II=0.5 --json",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     info.add_argument("files", nargs="*", metavar="FILE", help="record file(s): horizontal 1, horizontal 2, vertical")
     info.add_argument(
         "--synthetic", type=int, metavar="SEED",
-        help="use the synthetic mining tremor with this seed (an integer >= 0) instead of files",
+        help="use the synthetic mining tremor with this seed (an integer >= 0) instead of files "
+        "(not with --format, --dt, --units: they describe files)",
     )
     info.add_argument("--format", metavar="NAME", help="reader to use (default: chosen by file suffix; see 'bearingfw plugins')")
-    info.add_argument("--dt", type=float, metavar="SECONDS", help="time step for column files without a time column")
-    info.add_argument("--units", metavar="UNIT", help="units of the file values when the file does not say: g, m/s^2 or cm/s^2")
+    info.add_argument(
+        "--dt", type=float, metavar="SECONDS",
+        help="time step for files that do not state one (no time column, header or '# dt:'); an error if a file "
+        "states another",
+    )
+    info.add_argument(
+        "--units", metavar="UNIT",
+        help="units of the file values, g, m/s^2 or cm/s^2, for files that do not state them; an error if a file "
+        "states other units (e.g. 'UNITS OF G' in an .AT2 header)",
+    )
     info.add_argument("--scale", metavar="NAME", help="intensity scale (default: usb-pga-h10; see 'bearingfw plugins')")
     info.add_argument(
         "--level", metavar="LEVEL",
-        help="first scale the record to an intensity level D_0, D_I, D_II, D_III or D_IV "
-        "(PGA_H10 0.10, 0.23, 0.46, 0.75, 1.10 m/s^2); an error if its degree then differs",
+        help="first scale the record to the PGA_H10 of an intensity level D_0, D_I, D_II, D_III or D_IV "
+        "(the paper's D_0 = 0.10 and D_II = 0.46 m/s^2; every value used is printed, 'levels' in --json); "
+        "an error if its degree then differs",
+    )
+    info.add_argument(
+        "--set-level", action="append", default=[], metavar="LEVEL=VALUE",
+        help="with --level: change the PGA_H10 (m/s^2) of one level, e.g. --set-level D_II=0.5; repeat for "
+        "several levels (each at most once; the levels must still increase from D_0 to D_IV)",
     )
     info.add_argument("--json", action="store_true", help="print a JSON object instead of a table")
     info.add_argument(
         "--plot", metavar="DIR",
-        help="write acceleration histories, Fourier spectra and the intensity chart to DIR (PNG and SVG)",
+        help="write acceleration histories, Fourier spectra, the intensity chart and the 5 %% response spectra "
+        "to DIR (PNG and SVG)",
     )
     info.set_defaults(func=run_info)
 
@@ -66,15 +83,39 @@ def _load(args):
     if args.synthetic is not None:
         if args.files:
             raise ParameterError("give either FILEs or --synthetic SEED, not both")
+        file_options = [f"--{name}" for name in ("format", "dt", "units") if getattr(args, name) is not None]
+        if file_options:
+            raise ParameterError(
+                f"{', '.join(file_options)} describe(s) record files; --synthetic SEED generates the record, "
+                "so leave them out"
+            )
         return motion.synthetic_tremor(args.synthetic)
     if not args.files:
         raise ParameterError("no record: give FILE(s) or --synthetic SEED")
     return motion.read_record(args.files, format=args.format, dt=args.dt, units=args.units)
 
 
-def info_data(record, scale) -> dict:
+def _levels(args):
+    """The intensity levels with the --set-level changes."""
+    from bearingfw.motion import IntensityLevels
+
+    if args.set_level and not args.level:
+        raise ParameterError("--set-level changes the levels that --level scales to; give --level as well")
+    pairs = []
+    for text in args.set_level:
+        level, sep, value = text.partition("=")
+        try:
+            pairs.append((level.strip(), float(value)))
+        except ValueError:
+            sep = ""
+        if not sep:
+            raise ParameterError(f"--set-level expects LEVEL=VALUE (m/s^2), e.g. D_II=0.5, got {text!r}")
+    return IntensityLevels.with_overrides(pairs)
+
+
+def info_data(record, scale, levels=None) -> dict:
     """The ``--json`` object of ``record info`` (SI units: m/s^2, s, m/s, Hz)."""
-    from bearingfw.motion import record_summary
+    from bearingfw.motion import DEFAULT_LEVELS, record_degree, record_summary
 
     summary = record_summary(record)
     return {
@@ -88,14 +129,20 @@ def info_data(record, scale) -> dict:
         "source_units": list(record.source_units),
         "names": list(record.names),
         "padded": list(record.padded_components),
+        "resampled": list(record.resampled_components),
         "scale_factor": record.metadata.get("scale_factor", 1.0),
+        "level": record.metadata.get("level"),
+        "levels": (levels or DEFAULT_LEVELS).as_dict(),
         "pga_h10": summary["pga_h10"],
+        "pga_h10_filter": summary["pga_h10_filter"],
         "t_ha": summary["t_ha"],
         "arias": summary["arias"],
-        "degree": scale.degree(summary["pga_h10"], summary["t_ha"]),
+        "degree": record_degree(record, scale),
         "scale": scale.name,
         "pga": summary["pga"],
         "components": summary["components"],
+        "response_spectrum": summary["response_spectrum"],
+        "notes": summary["notes"],
     }
 
 
@@ -107,20 +154,34 @@ def _print_table(data: dict) -> None:
     print(f"  {data['samples']} samples at dt = {data['dt']:g} s ({data['duration']:.2f} s); "
           f"accelerations in m/s^2 (source units: {units})")
     if data["scale_factor"] != 1.0:
-        print(f"  scaled by {data['scale_factor']:.4g}")
+        level = f" (to level {data['level']} = {data['levels'][data['level']]:g} m/s^2)" if data["level"] else ""
+        print(f"  scaled by {data['scale_factor']:.4g}{level}")
     for c in data["components"]:
         if c["padded"]:
             print(f"  component {c['name']}: {c['samples']} samples, padded with zeros to {data['samples']}")
+    for note in data["notes"]:
+        print(f"  note: {note}")
+    resampled = any(c["resampled"] for c in data["components"])
     headers = ("component", "peak [m/s^2]", "peak [g]", "Arias [m/s]", "dominant f [Hz]")
-    rows = [
-        (c["name"], f"{c['pga']:.4g}", f"{c['pga_g']:.4g}", f"{c['arias']:.4g}",
-         "-" if c["dominant_frequency"] is None else f"{c['dominant_frequency']:.2f}")
-        for c in data["components"]
-    ]
+    if resampled:  # band-limited resampling changes peaks: show the file's too
+        headers += ("peak before resampling [m/s^2]",)
+    spectrum = data["response_spectrum"]
+    shown = [i for i, T in enumerate(spectrum["periods"]) if T in (0.1, 0.2, 0.5, 1.0)]
+    headers += tuple(f"PSA({spectrum['periods'][i]:g} s)" for i in shown)
+    rows = []
+    for c in data["components"]:
+        row = (c["name"], f"{c['pga']:.4g}", f"{c['pga_g']:.4g}", f"{c['arias']:.4g}",
+               "-" if c["dominant_frequency"] is None else f"{c['dominant_frequency']:.2f}")
+        if resampled:
+            row += (f"{c['pga_before_resampling']:.4g}",)
+        rows.append(row + tuple(f"{spectrum['psa'][c['role']][i]:.4g}" for i in shown))
     widths = [max(len(r[i]) for r in [headers, *rows]) for i in range(len(headers))]
     for row in [headers, *rows]:
         print("  " + "  ".join(cell.rjust(w) if i else cell.ljust(w) for i, (cell, w) in enumerate(zip(row, widths))))
-    print(f"PGA_H10 = {data['pga_h10']:.4g} m/s^2  (resultant of both horizontals low-passed at 10 Hz)")
+    print(f"  (PSA: pseudo-spectral acceleration in m/s^2, {spectrum['damping']:.0%} damping)")
+    h10 = data["pga_h10_filter"]
+    print(f"PGA_H10 = {data['pga_h10']:.4g} m/s^2  (resultant of both horizontals low-passed at {h10['cutoff_hz']:g} Hz: "
+          f"order-{h10['order_per_pass']} Butterworth, forward and backward)")
     print(f"t_Ha    = {data['t_ha']:.3g} s  (5-95 % of the horizontal Arias intensity)")
     print(f"Arias   = {data['arias']:.4g} m/s  (both horizontals)")
     print(f"Degree  = {data['degree']}  (scale {data['scale']})")
@@ -134,9 +195,10 @@ def run_info(args) -> int:
     try:
         record = _load(args)
         scale = motion.get_scale(args.scale)
+        levels = _levels(args)
         if args.level:
-            record = motion.scale_to_level(record, args.level, scale=scale)
-        data = info_data(record, scale)
+            record = motion.scale_to_level(record, args.level, levels=levels, scale=scale)
+        data = info_data(record, scale, levels)
         written = []
         if args.plot:
             from bearingfw.motion.plot import write_figures

@@ -20,7 +20,10 @@ from bearingfw.motion.intensity import (
     scale_to_pga_h10,
 )
 from bearingfw.motion.metrics import (
+    DEFAULT_DAMPING,
+    H10_FILTER,
     ResponseSpectrum,
+    ZeroPhaseButterworth,
     arias_intensity,
     band_energy_fraction,
     dominant_frequency,
@@ -29,37 +32,46 @@ from bearingfw.motion.metrics import (
     lowpass,
     peak,
     pga_h10,
+    record_pga_h10,
     record_summary,
+    record_t_ha,
     response_spectrum,
     significant_duration,
     t_ha,
 )
-from bearingfw.motion.readers import find_reader, read_at2, read_columns, read_npz, read_record
-from bearingfw.motion.record import G, Record, Trace, assemble, normalize_units, resample
-from bearingfw.motion.synthetic import TremorParameters, synthetic_tremor
+from bearingfw.motion.readers import STEP_RTOL, find_reader, read_at2, read_columns, read_npz, read_record
+from bearingfw.motion.record import DEFAULT_NAMES, G, ROLES, Record, Trace, assemble, normalize_units, resample
+from bearingfw.motion.synthetic import TremorParameters, envelope, synthetic_tremor
 from bearingfw.plugins.contracts import IntensityScale, RecordReader
 
 __all__ = [
+    "DEFAULT_DAMPING",
     "DEFAULT_LEVELS",
+    "DEFAULT_NAMES",
     "DEFAULT_SCALE",
     "DEFAULT_SCALE_NAME",
     "G",
+    "H10_FILTER",
     "LEVEL_NAMES",
     "IntensityLevels",
     "IntensityMismatchError",
     "IntensityScale",
     "Record",
     "RecordFormatError",
+    "ROLES",
     "RecordReader",
     "ResponseSpectrum",
+    "STEP_RTOL",
     "Trace",
     "TremorParameters",
     "UnknownReaderError",
     "UnknownScaleError",
+    "ZeroPhaseButterworth",
     "arias_intensity",
     "assemble",
     "band_energy_fraction",
     "dominant_frequency",
+    "envelope",
     "find_reader",
     "fourier_spectrum",
     "get_scale",
@@ -75,7 +87,9 @@ __all__ = [
     "read_npz",
     "read_record",
     "record_degree",
+    "record_pga_h10",
     "record_summary",
+    "record_t_ha",
     "resample",
     "response_spectrum",
     "scale_to_level",

@@ -17,15 +17,17 @@ them and constant outside; the middle row is exactly that line (the table is con
 from __future__ import annotations
 
 import math
+import numbers
 import re
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 import attrs
 
 from bearingfw.motion.errors import IntensityMismatchError, UnknownScaleError
-from bearingfw.motion.metrics import pga_h10, t_ha
+from bearingfw.motion.metrics import record_pga_h10, record_t_ha
 from bearingfw.motion.record import Record
-from bearingfw.parameters import ParameterError, parameter
+from bearingfw.parameters import ParameterError
 from bearingfw.plugins.contracts import IntensityScale
 
 __all__ = [
@@ -58,29 +60,47 @@ DEFAULT_SCALE = IntensityScale(
     ),
 )
 
-#: The paper's intensity levels, lowest first, and the degree each one stands for.
-LEVEL_NAMES = ("D_0", "D_I", "D_II", "D_III", "D_IV")
-_LEVEL_DEGREES = dict(zip(LEVEL_NAMES, ("0", "I", "II", "III", "IV")))
+#: The paper's intensity levels, lowest first: level D_x stands for degree x of the default scale.
+LEVEL_NAMES = tuple(f"D_{degree}" for degree in DEFAULT_SCALE.degrees)
+_LEVEL_DEGREES = dict(zip(LEVEL_NAMES, DEFAULT_SCALE.degrees))
 
 
-def _level(default: float, doc: str):
-    return parameter(low=0.0, low_open=True, default=default, unit="m/s^2", doc=doc)
+def _real(value: Any) -> Any:
+    # Leave anything that is not a real number untouched so that the validator can name it.
+    return float(value) if isinstance(value, numbers.Real) and not isinstance(value, bool) else value
+
+
+def _level(index: int, default: float, doc: str):
+    """The field of level ``LEVEL_NAMES[index]``: a PGA_H10 > 0 (m/s^2); errors name the level, not the field."""
+    name = LEVEL_NAMES[index]
+
+    def check(instance, attribute, value):
+        if not isinstance(value, float) or not math.isfinite(value) or value <= 0:
+            got = f"{type(value).__name__} {value!r}" if not isinstance(value, float) else repr(value)
+            raise ParameterError(
+                f"IntensityLevels: {name} = {got} is outside the allowed range {name} > 0 (PGA_H10 in m/s^2, finite)"
+            )
+
+    return attrs.field(
+        default=default, converter=_real, validator=check,
+        metadata={"level": name, "range": f"{name} > 0", "unit": "m/s^2", "doc": doc},
+    )
 
 
 @attrs.frozen
 class IntensityLevels:
-    """Target PGA_H10 (m/s^2) of the tremors D_0 .. D_IV.
+    """Target PGA_H10 (m/s^2) of the tremors D_0 .. D_IV (fields ``d0`` .. ``d4``).
 
     The defaults are the paper's D_0 = 0.10 and D_II = 0.46 m/s^2 and, for D_I, D_III and D_IV,
     values inside their degree of the default scale for every t_Ha > 3 s (degree bounds 0.15,
     0.3, 0.6, 0.9, 1.3 m/s^2 there).
     """
 
-    d0: float = _level(0.10, "D_0: degree 0 (the paper's low-energy tremor)")
-    d1: float = _level(0.23, "D_I: degree I")
-    d2: float = _level(0.46, "D_II: degree II (the paper's recorded tremor)")
-    d3: float = _level(0.75, "D_III: degree III")
-    d4: float = _level(1.10, "D_IV: degree IV")
+    d0: float = _level(0, 0.10, "D_0: degree 0 (the paper's low-energy tremor)")
+    d1: float = _level(1, 0.23, "D_I: degree I")
+    d2: float = _level(2, 0.46, "D_II: degree II (the paper's recorded tremor)")
+    d3: float = _level(3, 0.75, "D_III: degree III")
+    d4: float = _level(4, 1.10, "D_IV: degree IV")
 
     def __attrs_post_init__(self):
         values = attrs.astuple(self)
@@ -98,10 +118,25 @@ class IntensityLevels:
         return self.as_dict()[level_name(level)]
 
     @classmethod
-    def with_overrides(cls, overrides: dict[str, float] | None = None) -> IntensityLevels:
-        """Defaults with some levels replaced, keyed by any spelling :func:`level_name` accepts."""
-        fields = dict(zip(LEVEL_NAMES, ("d0", "d1", "d2", "d3", "d4")))
-        return cls(**{fields[level_name(k)]: v for k, v in (overrides or {}).items()})
+    def with_overrides(cls, overrides: Mapping[Any, float] | Iterable[tuple[Any, float]] | None = None) -> IntensityLevels:
+        """Defaults with some levels replaced, keyed by any spelling :func:`level_name` accepts.
+
+        ``overrides`` is a mapping or a sequence of ``(level, value)`` pairs (as a command line
+        gives them). Naming one level twice (``{"D_II": 0.5, "d2": 0.6}``) is an error, not "the
+        last wins".
+        """
+        fields = dict(zip(LEVEL_NAMES, (f.name for f in attrs.fields(cls))))
+        pairs = overrides.items() if isinstance(overrides, Mapping) else (overrides or ())
+        given: dict[str, tuple[Any, float]] = {}
+        for key, value in pairs:
+            name = level_name(key)
+            if name in given:
+                raise ParameterError(
+                    f"intensity level {name} is given twice (as {given[name][0]!r} = {given[name][1]!r} and "
+                    f"{key!r} = {value!r}); give each level once"
+                )
+            given[name] = (key, value)
+        return cls(**{fields[name]: value for name, (_, value) in given.items()})
 
 
 DEFAULT_LEVELS = IntensityLevels()
@@ -111,7 +146,7 @@ def level_name(level: Any) -> str:
     """The canonical name ``D_0`` .. ``D_IV`` of a level given as ``D_II``, ``DII``, ``d2``, ``II`` or ``2``."""
     text = str(level).strip().upper().replace("-", "_")
     text = re.sub(r"^D_?", "", text)
-    arabic = {"0": "0", "1": "I", "2": "II", "3": "III", "4": "IV"}
+    arabic = {str(i): degree for i, degree in enumerate(DEFAULT_SCALE.degrees)}
     text = arabic.get(text, text)
     name = f"D_{text}"
     if name not in _LEVEL_DEGREES:
@@ -140,7 +175,7 @@ def get_scale(name: str | None = None, registry=None) -> IntensityScale:
 def record_degree(record: Record, scale: IntensityScale | None = None) -> str:
     """The degree of a record on ``scale`` (default :data:`DEFAULT_SCALE`) from its PGA_H10 and t_Ha."""
     scale = scale or DEFAULT_SCALE
-    return scale.degree(pga_h10(record.h1, record.h2, record.dt), t_ha(record.h1, record.h2, record.dt))
+    return scale.degree(record_pga_h10(record), record_t_ha(record))
 
 
 def scale_to_pga_h10(record: Record, target: float) -> Record:
@@ -152,7 +187,7 @@ def scale_to_pga_h10(record: Record, target: float) -> Record:
     target = float(target)
     if not math.isfinite(target) or target <= 0:
         raise ParameterError(f"target PGA_H10 must be finite and > 0 m/s^2, got {target!r}")
-    current = pga_h10(record.h1, record.h2, record.dt)
+    current = record_pga_h10(record)
     if current <= 0:
         raise ParameterError(f"{record.title}: PGA_H10 is zero (no horizontal motion), it cannot be scaled")
     return record.scaled(target / current, target_pga_h10=target)
@@ -173,7 +208,7 @@ def scale_to_level(
     name = level_name(level)
     target = levels[name]
     scaled = scale_to_pga_h10(record, target)
-    duration = t_ha(scaled.h1, scaled.h2, scaled.dt)
+    duration = record_t_ha(scaled)
     degree = scale.degree(target, duration)
     wanted = level_degree(name)
     if degree != wanted:

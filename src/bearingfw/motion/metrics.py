@@ -7,18 +7,22 @@ Pure functions over numpy arrays (accelerations in m/s^2, time step ``dt`` in s)
 from __future__ import annotations
 
 import math
+from typing import ClassVar
 
 import attrs
 import numpy as np
-from scipy import linalg, signal
+from scipy import signal
 from scipy.integrate import cumulative_trapezoid, trapezoid
 
-from bearingfw.motion.record import G, Record
-from bearingfw.parameters import ParameterError
+from bearingfw.motion.record import ROLES, G, Record
+from bearingfw.parameters import ParameterError, parameter
 
 __all__ = [
-    "H10_CUTOFF",
+    "DEFAULT_DAMPING",
+    "H10_FILTER",
+    "SUMMARY_PERIODS",
     "ResponseSpectrum",
+    "ZeroPhaseButterworth",
     "arias_intensity",
     "band_energy_fraction",
     "dominant_frequency",
@@ -27,13 +31,71 @@ __all__ = [
     "lowpass",
     "peak",
     "pga_h10",
+    "record_pga_h10",
+    "record_summary",
+    "record_t_ha",
     "response_spectrum",
     "significant_duration",
     "t_ha",
 ]
 
-#: The cut-off of PGA_H10 (Hz): the "10" in H10.
-H10_CUTOFF = 10.0
+
+def _check_order(instance, attribute, value):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 1 <= value <= 8:
+        raise ParameterError(f"ZeroPhaseButterworth: 'order' must be a whole number with 1 <= order <= 8, got {value!r}")
+
+
+@attrs.frozen
+class ZeroPhaseButterworth:
+    """A zero-phase Butterworth low-pass: one ``order``-th order section run forward and backward.
+
+    ``cutoff`` (Hz) is the design frequency of each pass. Two passes square the one-pass
+    magnitude, so the overall amplitude gain is ``1 / (1 + (f / cutoff)^(2 order))``: 1/2 (-6 dB)
+    at the cut-off, -3 dB at ``cutoff (sqrt(2) - 1)^(1 / (2 order))``, a roll-off of
+    ``40 order`` dB per decade, and no phase shift.
+    """
+
+    cutoff: float = parameter(low=0.0, low_open=True, unit="Hz", doc="design frequency of each pass")
+    order: int = attrs.field(validator=_check_order, metadata={"range": "1 <= order <= 8", "doc": "order of each pass"})
+
+    #: Forward and backward (``scipy.signal.sosfiltfilt``).
+    passes: ClassVar[int] = 2
+
+    def gain(self, f) -> np.ndarray:
+        """Overall amplitude gain at frequencies ``f`` (Hz), both passes."""
+        return 1.0 / (1.0 + (np.asarray(f, dtype=float) / self.cutoff) ** (2 * self.order))
+
+    @property
+    def half_power_frequency(self) -> float:
+        """The -3 dB frequency (Hz) of the overall response."""
+        return self.cutoff * (math.sqrt(2.0) - 1.0) ** (1.0 / (2 * self.order))
+
+    def to_dict(self) -> dict:
+        return {
+            "type": "butterworth low-pass, zero phase (forward and backward)",
+            "cutoff_hz": self.cutoff,
+            "order_per_pass": self.order,
+            "passes": self.passes,
+            "overall_order": self.passes * self.order,
+            "gain_at_cutoff": float(self.gain(self.cutoff)),
+            "minus_3db_hz": self.half_power_frequency,
+        }
+
+
+#: The PGA_H10 filter. "Zero-phase 4th-order Butterworth low-pass at 10 Hz" read literally, as
+#: seismological processing usually means it: a 4th-order Butterworth designed at 10 Hz, run
+#: forward and backward (zero phase). Overall gain 1 / (1 + (f/10)^8): -6 dB at 10 Hz, -3 dB at
+#: 8.96 Hz, so it passes the band up to 10 Hz more fully than a 2nd-order pair (-3 dB at 8.0 Hz).
+H10_FILTER = ZeroPhaseButterworth(cutoff=10.0, order=4)
+
+#: Damping ratio of the response spectrum unless another is asked for (5 %, the usual one).
+DEFAULT_DAMPING = 0.05
+
+#: Periods (s) of the response spectrum in :func:`record_summary` (and ``bearingfw record info --json``).
+SUMMARY_PERIODS = (0.05, 0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0)
+
+#: The response spectrum's integration step is at most T / SUBSTEPS_PER_PERIOD (see response_spectrum).
+SUBSTEPS_PER_PERIOD = 10
 
 
 def _signal(a, name: str = "acceleration") -> np.ndarray:
@@ -55,30 +117,31 @@ def peak(a) -> float:
     return float(np.max(np.abs(_signal(a))))
 
 
-def lowpass(a, dt: float, cutoff: float = H10_CUTOFF, order: int = 4) -> np.ndarray:
-    """Zero-phase Butterworth low-pass of ``order`` at ``cutoff`` Hz.
+def lowpass(a, dt: float, spec: ZeroPhaseButterworth = H10_FILTER) -> np.ndarray:
+    """The zero-phase Butterworth low-pass ``spec`` (default: the PGA_H10 filter) of ``a``.
 
     The filter runs forward and backward (``sosfiltfilt``): no phase shift, so peaks stay where
-    they are; the magnitude response is ``1 / (1 + (f/cutoff)^(2 order))`` (the square of the
-    one-pass filter's). If the cut-off is at or above the Nyquist frequency the signal has no
-    content to remove and is returned unchanged.
+    they are; see :class:`ZeroPhaseButterworth` for the magnitude. If the cut-off is at or above
+    the Nyquist frequency the signal has no content to remove and is returned unchanged.
     """
     a, dt = _signal(a), _dt(dt)
     nyquist = 0.5 / dt
-    if cutoff >= nyquist:
+    if spec.cutoff >= nyquist:
         return a.copy()
-    sos = signal.butter(order, cutoff, btype="lowpass", fs=1.0 / dt, output="sos")
+    sos = signal.butter(spec.order, spec.cutoff, btype="lowpass", fs=1.0 / dt, output="sos")
     # Pad (odd reflection) by three periods of the cut-off, not scipy's few samples: the start-up
     # transient then dies out in the padding instead of overshooting the record's first peaks.
-    padlen = min(a.size - 1, math.ceil(3.0 / (cutoff * dt)))
+    padlen = min(a.size - 1, math.ceil(3.0 / (spec.cutoff * dt)))
     return signal.sosfiltfilt(sos, a, padlen=padlen)
 
 
 def pga_h10(h1, h2, dt: float) -> float:
     """PGA_H10 (m/s^2): the peak of the resultant of both horizontals, each low-passed to 10 Hz.
 
-    ``max_k sqrt(h1f_k^2 + h2f_k^2)`` with ``h1f, h2f`` the zero-phase 4th-order Butterworth
-    low-passes of the two horizontal components at 10 Hz (:func:`lowpass`).
+    ``max_k sqrt(h1f_k^2 + h2f_k^2)`` with ``h1f, h2f`` the horizontals filtered by
+    :data:`H10_FILTER`: a 4th-order Butterworth at 10 Hz run forward and backward (zero phase),
+    whose overall amplitude gain is ``1 / (1 + (f / 10 Hz)^8)``: 1.0 at 3 Hz, 0.71 (-3 dB) at
+    8.96 Hz, 0.5 (-6 dB) at 10 Hz, 0.19 at 12 Hz, 6e-4 at 25 Hz.
     """
     f1, f2 = lowpass(h1, dt), lowpass(h2, dt)
     if f1.size != f2.size:
@@ -202,34 +265,46 @@ class ResponseSpectrum:
         return self.omega**2 * self.sd
 
 
-def _oscillator_filter(omega: float, zeta: float, dt: float) -> tuple[np.ndarray, np.ndarray]:
-    """IIR coefficients ``(b, a)`` mapping the load ``p_k`` to the displacement ``u_k`` of
-    ``u'' + 2 zeta omega u' + omega^2 u = p``, exact for ``p`` linear between samples.
+def _oscillator_filters(omega: np.ndarray, zeta: float, h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """IIR coefficients ``(b, a)``, one row per oscillator, mapping the load ``p_k`` to the
+    displacement ``u_k`` of ``u'' + 2 zeta omega u' + omega^2 u = p`` sampled every ``h``, exact
+    for ``p`` linear between samples (``0 <= zeta < 1``).
 
-    With ``x = [u, u']`` and ``x' = A x + e p`` the step is
-    ``x_{k+1} = Phi x_k + G0 p_k + G1 p_{k+1}``: ``Phi = exp(A dt)`` and ``G0``, ``G1`` come
-    from one matrix exponential of the system augmented with the ramp ``p(tau) = p_k + q tau``
-    (the blocks of ``exp(M dt)`` that multiply ``p_k`` and ``q``). Eliminating ``u'`` gives
-    ``U/P = (b0 z^2 + b1 z + b2) / (z^2 - tr(Phi) z + det(Phi))``.
+    With ``x = [u, u']`` the step is ``x_{k+1} = Phi x_k + G0 p_k + G1 p_{k+1}``. ``Phi =
+    exp(A h)`` in closed form (damped sine and cosine). For the ramp ``p(tau) = p_k + q tau``
+    the particular solution is ``u_p = (p_k + q tau) / omega^2 - 2 zeta q / omega^3``, so the
+    load term is ``x_p(h) - Phi x_p(0)``, linear in ``p_k`` and ``p_{k+1}`` (``q = (p_{k+1} -
+    p_k) / h``). Eliminating ``u'`` gives ``U/P = (b0 z^2 + b1 z + b2) / (z^2 - tr(Phi) z +
+    det(Phi))``. Closed forms, not ``scipy.linalg.expm``: elementwise numpy for all periods at
+    once, and no tiny BLAS calls (slow when threads compete for the CPUs).
     """
-    A = np.array([[0.0, 1.0], [-(omega**2), -2.0 * zeta * omega]])
-    M = np.zeros((4, 4))
-    M[:2, :2] = A
-    M[1, 2] = 1.0  # the load enters the velocity equation
-    M[2, 3] = 1.0  # p' = q
-    E = linalg.expm(M * dt)
-    phi, e_p, e_q = E[:2, :2], E[:2, 2], E[:2, 3]
-    g1 = e_q / dt
-    g0 = e_p - g1
+    w, h = np.asarray(omega, dtype=float), np.asarray(h, dtype=float)
+    wd = w * math.sqrt(1.0 - zeta**2)
+    decay = np.exp(-zeta * w * h)
+    cos, sin = np.cos(wd * h), np.sin(wd * h)
+    phi = np.empty((w.size, 2, 2))
+    phi[:, 0, 0] = decay * (cos + zeta * w / wd * sin)
+    phi[:, 0, 1] = decay * sin / wd
+    phi[:, 1, 0] = -decay * w**2 / wd * sin
+    phi[:, 1, 1] = decay * (cos - zeta * w / wd * sin)
+    # x_p(0) and x_p(h) per unit p_k and per unit p_{k+1}, shape (n, 2) each.
+    ramp_u, ramp_v = 2.0 * zeta / (h * w**3), 1.0 / (h * w**2)
+    start_k = np.column_stack([1.0 / w**2 + ramp_u, -ramp_v])
+    end_k = np.column_stack([ramp_u, -ramp_v])
+    start_k1 = np.column_stack([-ramp_u, ramp_v])
+    end_k1 = np.column_stack([1.0 / w**2 - ramp_u, ramp_v])
+    g0 = end_k - np.einsum("nij,nj->ni", phi, start_k)
+    g1 = end_k1 - np.einsum("nij,nj->ni", phi, start_k1)
     # c adj(zI - Phi) (G0 + z G1) with c = [1, 0]: adj row 0 is [z - Phi11, Phi01].
-    b0 = g1[0]
-    b1 = g0[0] - phi[1, 1] * g1[0] + phi[0, 1] * g1[1]
-    b2 = -phi[1, 1] * g0[0] + phi[0, 1] * g0[1]
-    a = np.array([1.0, -np.trace(phi), np.linalg.det(phi)])
-    return np.array([b0, b1, b2]), a
+    b0 = g1[:, 0]
+    b1 = g0[:, 0] - phi[:, 1, 1] * g1[:, 0] + phi[:, 0, 1] * g1[:, 1]
+    b2 = -phi[:, 1, 1] * g0[:, 0] + phi[:, 0, 1] * g0[:, 1]
+    trace = phi[:, 0, 0] + phi[:, 1, 1]
+    det = phi[:, 0, 0] * phi[:, 1, 1] - phi[:, 0, 1] * phi[:, 1, 0]
+    return np.column_stack([b0, b1, b2]), np.column_stack([np.ones_like(trace), -trace, det])
 
 
-def response_spectrum(a, dt: float, periods=None, damping: float = 0.05) -> ResponseSpectrum:
+def response_spectrum(a, dt: float, periods=None, damping: float = DEFAULT_DAMPING) -> ResponseSpectrum:
     """Elastic response spectrum of ground acceleration ``a`` (m/s^2), default 5 % damping.
 
     For each period ``T`` the oscillator ``u'' + 2 zeta omega u' + omega^2 u = -a_g`` (omega =
@@ -237,6 +312,11 @@ def response_spectrum(a, dt: float, periods=None, damping: float = 0.05) -> Resp
     response is exact for that input (a Nigam-Jennings-type recursion, run as an IIR filter).
     The oscillator is at rest before the first sample and the acceleration ramps from zero to
     ``a_0`` during the step before it (exact when the record starts at zero, as records do).
+
+    The recursion is exact at its steps, but the peak between two steps is missed: at
+    ``T = 2 dt`` the sampled peak can be half the true one. Each period is therefore integrated
+    with the step ``h = dt / m <= T / 10`` (``m`` whole) on the same piecewise-linear input,
+    which bounds that loss by ``1 - cos(pi / 10)`` (5 %, typically far less).
     Default periods: 100 values from 0.02 s to 5 s, logarithmically spaced.
     """
     a, dt = _signal(a), _dt(dt)
@@ -245,10 +325,13 @@ def response_spectrum(a, dt: float, periods=None, damping: float = 0.05) -> Resp
     periods = np.geomspace(0.02, 5.0, 100) if periods is None else np.atleast_1d(np.asarray(periods, dtype=float))
     if np.any(~np.isfinite(periods)) or np.any(periods <= 0):
         raise ParameterError("periods must be finite and > 0 s")
+    samples = np.arange(a.size)
+    substeps = np.maximum(1, np.ceil(SUBSTEPS_PER_PERIOD * dt / periods - 1e-9)).astype(int)  # per sample
+    b, den = _oscillator_filters(2.0 * np.pi / periods, damping, dt / substeps)
     sd = np.empty(periods.size)
-    for i, T in enumerate(periods):
-        b, den = _oscillator_filter(2.0 * np.pi / T, damping, dt)
-        sd[i] = np.max(np.abs(signal.lfilter(b, den, -a)))
+    for i, m in enumerate(substeps):
+        load = -a if m == 1 else -np.interp(np.arange((a.size - 1) * m + 1) / m, samples, a)
+        sd[i] = np.max(np.abs(signal.lfilter(b[i], den[i], load)))
     return ResponseSpectrum(periods=periods, damping=float(damping), sd=sd)
 
 
@@ -256,23 +339,39 @@ def response_spectrum(a, dt: float, periods=None, damping: float = 0.05) -> Resp
 
 
 def record_pga_h10(record: Record) -> float:
+    """PGA_H10 (m/s^2) of a record (:func:`pga_h10` of its horizontals)."""
     return pga_h10(record.h1, record.h2, record.dt)
 
 
 def record_t_ha(record: Record) -> float:
+    """t_Ha (s) of a record (:func:`t_ha` of its horizontals)."""
     return t_ha(record.h1, record.h2, record.dt)
 
 
-def record_summary(record: Record) -> dict:
-    """Every measure of :mod:`bearingfw.motion.metrics` for a record, as plain data (SI units)."""
+def record_summary(record: Record, periods=SUMMARY_PERIODS, damping: float = DEFAULT_DAMPING) -> dict:
+    """Every measure of :mod:`bearingfw.motion.metrics` for a record, as plain data (SI units).
+
+    Per component: ``pga``, the peak of the record's component (after resampling, if the
+    component was resampled), and ``pga_before_resampling``, its peak as read from its file
+    (times any scale factor): band-limited resampling changes peaks. ``response_spectrum``:
+    pseudo-spectral accelerations (m/s^2) at ``periods`` for ``damping``. ``pga_h10_filter``
+    describes the PGA_H10 low-pass.
+    """
+    before = record.metadata.get("peaks_before_resampling")
+    spectra = {role: response_spectrum(values, record.dt, periods, damping) for role, values in zip(ROLES, record.components)}
     components = []
-    for role, name, values, length in zip(("h1", "h2", "v"), record.names, record.components, record.original_lengths):
+    for i, (role, name, values, length, resampled) in enumerate(
+        zip(ROLES, record.names, record.components, record.original_lengths, record.was_resampled)
+    ):
+        pga = peak(values)
         components.append(
             {
                 "role": role,
                 "name": name,
-                "pga": peak(values),
-                "pga_g": peak(values) / G,
+                "pga": pga,
+                "pga_g": pga / G,
+                "pga_before_resampling": before[i] if before and resampled else pga,
+                "resampled": resampled,
                 "arias": arias_intensity(values, record.dt),
                 "dominant_frequency": dominant_frequency(values, record.dt) if np.any(values) else None,
                 "samples": int(length),
@@ -281,8 +380,15 @@ def record_summary(record: Record) -> dict:
         )
     return {
         "pga_h10": record_pga_h10(record),
+        "pga_h10_filter": H10_FILTER.to_dict(),
         "t_ha": record_t_ha(record),
         "arias": arias_intensity(record.horizontal, record.dt),
         "pga": {c["role"]: c["pga"] for c in components},
         "components": components,
+        "response_spectrum": {
+            "damping": float(damping),
+            "periods": [float(T) for T in np.atleast_1d(periods)],
+            "psa": {role: spectrum.psa.tolist() for role, spectrum in spectra.items()},
+        },
+        "notes": list(record.notes),
     }

@@ -5,20 +5,25 @@ Every reader returns :class:`~bearingfw.motion.Trace` objects in the file's own 
 time step; unit conversion, resampling and padding happen once, in
 :func:`~bearingfw.motion.record.assemble`. A malformed file raises
 :class:`~bearingfw.motion.RecordFormatError` naming the file and the line.
+
+What a file states wins: the ``dt`` and ``units`` arguments (``--dt``, ``--units``) are used
+only for files that do not state them, and an argument that contradicts the file is an error.
 """
 
 from __future__ import annotations
 
+import json
 import math
 import re
+import zipfile
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from bearingfw.motion.errors import RecordFormatError, UnknownReaderError
-from bearingfw.motion.record import G, Record, Trace, assemble, normalize_units
+from bearingfw.motion.record import ROLES, G, Record, Trace, assemble, normalize_units
 from bearingfw.parameters import ParameterError
 from bearingfw.plugins.contracts import RecordReader
 
@@ -26,6 +31,7 @@ __all__ = [
     "AT2_READER",
     "COLUMNS_READER",
     "NPZ_READER",
+    "STEP_RTOL",
     "find_reader",
     "read_at2",
     "read_columns",
@@ -33,64 +39,191 @@ __all__ = [
     "read_record",
 ]
 
+#: Relative tolerance of time steps: each step of a time column or array may differ from the
+#: mean step by this fraction (times are printed with few digits), and two statements of the
+#: time step (file header, time column, ``--dt``) must agree to it.
+STEP_RTOL = 1e-3
 
-def _lines(path: Path) -> list[str]:
-    # latin-1 never fails on odd bytes in free-text headers; splitlines() handles CRLF and CR.
+
+# -- text and numbers -------------------------------------------------------------------------
+
+
+def _decode(raw: bytes) -> str:
+    # UTF-8, dropping a byte-order mark (which would glue itself to the first cell); latin-1
+    # never fails, for odd bytes in free-text headers.
     try:
-        return path.read_text(encoding="latin-1").splitlines()
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return raw.decode("latin-1")
+
+
+def _lines(path: Path, limit: int | None = None) -> list[str]:
+    """The file's lines (CRLF, CR or LF); only the first ``limit`` bytes if given (for sniffing)."""
+    try:
+        with open(path, "rb") as handle:
+            raw = handle.read() if limit is None else handle.read(limit)
     except OSError as exc:
         raise RecordFormatError(path, None, f"cannot read the file ({exc.strerror or exc})") from exc
+    return _decode(raw).splitlines()
+
+
+# One number as Python, C and Fortran write it (1.0D-03 included); no underscores, no hex.
+_NUMBER = r"[+-]?(?:(?:\d+\.?\d*|\.\d+)(?:[EeDd][+-]?\d+)?|nan|inf(?:inity)?)"
+_NUMBER_RE = re.compile(_NUMBER, re.IGNORECASE)
+# Fixed-width output glues a negative value to the one before it: "-0.123E-02-0.456E-02". A glued
+# value must start with its sign and have a decimal point, so that "1.0-103" (a Fortran exponent
+# without its letter) is an error rather than two numbers.
+_GLUED_RE = re.compile(rf"{_NUMBER}(?:[+-](?:\d+\.\d*|\.\d+)(?:[EeDd][+-]?\d+)?)*", re.IGNORECASE)
 
 
 def _number(token: str, path: Path, line: int) -> float:
-    try:
-        value = float(token)
-    except ValueError:
-        try:  # Fortran double-precision exponent, e.g. 1.0D-03
-            value = float(token.replace("D", "E").replace("d", "e"))
-        except ValueError:
-            raise RecordFormatError(path, line, f"{token!r} is not a number") from None
+    """One number; ``float`` alone would also take ``1_0`` and surrounding spaces."""
+    if not _NUMBER_RE.fullmatch(token):
+        raise RecordFormatError(path, line, f"{token!r} is not a number")
+    value = float(token.replace("D", "E").replace("d", "e"))
     if not math.isfinite(value):
         raise RecordFormatError(path, line, f"value {token!r} is not finite")
     return value
 
 
-def _checked_units(units: str | None, path: Path, line: int | None, what: str) -> str:
+def _numbers(text: str, path: Path, line: int) -> list[float]:
+    """Every number on a line of whitespace-separated (possibly glued) values; all of it must be read."""
+    values = []
+    for token in text.split():
+        if not _GLUED_RE.fullmatch(token):
+            raise RecordFormatError(path, line, f"{token!r} is not a number")
+        values.extend(_number(part, path, line) for part in _NUMBER_RE.findall(token))
+    return values
+
+
+def _looks_numeric(cell: str) -> bool:
+    return bool(_GLUED_RE.fullmatch(cell))
+
+
+def _checked_units(units: str, path: Path, line: int | None, what: str) -> str:
     try:
         return normalize_units(units)
     except ParameterError as exc:
         raise RecordFormatError(path, line, f"{what}: {exc}") from None
 
 
-def _checked_dt(dt: float, path: Path, line: int | None, what: str) -> float:
+def _checked_dt(dt: float, path: Path, line: int | None, what: str, location: str | None = None) -> float:
     if not math.isfinite(dt) or dt <= 0:
-        raise RecordFormatError(path, line, f"{what} = {dt!r} s; the time step must be > 0")
+        raise RecordFormatError(path, line, f"{what} = {dt!r} s; the time step must be > 0", location)
     return dt
+
+
+class _Stated(NamedTuple):
+    """A value the file states, and where (for the error message)."""
+
+    value: Any
+    what: str  # e.g. "the header (DT)", "the '# dt' comment", "array 'dt'"
+    line: int | None = None  # None in an archive, which has no lines
+
+
+def _resolve_dt(
+    path: Path, stated: Sequence[_Stated], given: float | None, missing: str, line: int | None = None
+) -> float:
+    """The time step: what the file states (all statements agreeing), else the argument ``given``.
+
+    ``given`` must agree with the file when the file states one; ``missing`` is the message when
+    neither does.
+    """
+    if given is not None:
+        given = _checked_dt(float(given), path, None, "dt")
+    for other in stated[1:]:
+        if not math.isclose(other.value, stated[0].value, rel_tol=STEP_RTOL):
+            raise RecordFormatError(
+                path, other.line, f"{other.what} gives dt = {other.value:g} s but {stated[0].what} gives {stated[0].value:g} s"
+            )
+    if stated:
+        first = stated[0]
+        if given is not None and not math.isclose(given, first.value, rel_tol=STEP_RTOL):
+            raise RecordFormatError(path, first.line, f"{first.what} gives dt = {first.value:g} s but dt = {given:g} s was given")
+        return float(first.value)
+    if given is None:
+        raise RecordFormatError(path, line, missing)
+    return given
+
+
+def _resolve_units(path: Path, stated: _Stated | None, given: str | None, missing: str, line: int | None = None) -> str:
+    """The units: what the file states, else the argument ``given`` (which must not contradict the file)."""
+    wanted = None if given is None else _checked_units(given, path, None, "units")
+    if stated is None:
+        if wanted is None:
+            raise RecordFormatError(path, line, missing)
+        return wanted
+    found = _checked_units(stated.value, path, stated.line, stated.what)
+    if wanted is not None and wanted != found:
+        raise RecordFormatError(
+            path, stated.line,
+            f"{stated.what} states {found} but units = {given!r} was given; the units argument (--units) is only "
+            "for files that do not state their units",
+        )
+    return found
+
+
+def _time_step(times: np.ndarray) -> tuple[float, int | None, str]:
+    """Mean step of a time axis and, if it is not increasing in equal steps, the index of the
+    first bad sample and what is wrong with it (else ``None`` and "")."""
+    steps = np.diff(times)
+    if steps.size == 0:
+        return math.nan, 0, "a time axis needs at least 2 samples"
+    backwards = np.flatnonzero(steps <= 0)
+    if backwards.size:
+        k = int(backwards[0])
+        return math.nan, k + 1, f"time {times[k + 1]:g} s after {times[k]:g} s: the time must increase (dt > 0)"
+    step = float(times[-1] - times[0]) / steps.size
+    uneven = np.flatnonzero(np.abs(steps - step) > STEP_RTOL * step)
+    if uneven.size:
+        k = int(uneven[0])
+        return step, k + 1, (
+            f"time step {steps[k]:g} s differs from the mean step {step:g} s by more than {STEP_RTOL:.1%}: "
+            "samples must be equally spaced"
+        )
+    return step, None, ""
 
 
 # -- PEER NGA .AT2 ----------------------------------------------------------------------------
 
 _NEW_HEADER = re.compile(r"NPTS\s*=\s*(?P<npts>\S+?)\s*,\s*DT\s*=\s*(?P<dt>\S+)", re.IGNORECASE)
 _OLD_HEADER = re.compile(r"^\s*(?P<npts>\S+)\s+(?P<dt>\S+)\s+NPTS\s*,\s*DT", re.IGNORECASE)
-_UNITS_LINE = re.compile(r"UNITS\s+OF\s+(?P<units>\S+)", re.IGNORECASE)
+# "UNITS OF G", "units: cm/s^2", "UNITS = G." (punctuation is stripped by normalize_units) ...
+_UNITS_WORD = re.compile(r"\bUNITS?\b\s*(?:OF\b|IN\b|[:=])?\s*(?P<units>[^\s,;]+)", re.IGNORECASE)
+# ... or a unit in brackets: "ACCELERATION (G)", "[cm/s^2]".
+_BRACKETED_UNIT = re.compile(r"[\[(]\s*([^\])]+?)\s*[\])]")
+
+
+def _at2_units(text: str) -> str | None:
+    """The units stated on line 3 of an .AT2 file, or None if it states none."""
+    word = _UNITS_WORD.search(text)
+    if word:
+        return word["units"]  # checked by the caller: an unknown unit here is an error
+    for bracket in _BRACKETED_UNIT.finditer(text):
+        try:
+            return normalize_units(bracket[1])
+        except ParameterError:
+            continue  # "(FILTERED)" and such: not a unit
+    return None
 
 
 def _sniff_at2(path: Path) -> bool:
     try:
-        with open(path, encoding="latin-1") as handle:
-            head = [handle.readline() for _ in range(4)]
-    except OSError:
+        head = _lines(path, limit=4096)[:4]
+    except RecordFormatError:
         return False
-    return bool(_NEW_HEADER.search(head[3]) or _OLD_HEADER.search(head[3])) if len(head) == 4 else False
+    return len(head) == 4 and bool(_NEW_HEADER.search(head[3]) or _OLD_HEADER.search(head[3]))
 
 
 def read_at2(path: str | Path, *, dt: float | None = None, units: str | None = None) -> list[Trace]:
     """One component from a PEER NGA ``.AT2`` file.
 
     Lines 1-3 are free text (line 2 names event, station and component; line 3 the units, e.g.
-    ``ACCELERATION TIME SERIES IN UNITS OF G``); line 4 is ``NPTS= 6000, DT= .0100 SEC``
-    (NGA-West2) or ``6000 0.0100 NPTS, DT`` (older NGA); then NPTS values in free format.
-    ``units`` overrides line 3; ``dt``, if given, must agree with line 4.
+    ``ACCELERATION TIME SERIES IN UNITS OF G``, ``UNITS OF G.`` or ``ACCELERATION (CM/S^2)``);
+    line 4 is ``NPTS= 6000, DT= .0100 SEC`` (NGA-West2) or ``6000 0.0100 NPTS, DT`` (older NGA);
+    then NPTS values in free format, possibly glued in fixed-width columns
+    (``-0.123E-02-0.456E-02``). ``units`` is used only if line 3 states none and must agree with
+    it otherwise; ``dt``, if given, must agree with line 4.
     """
     path = Path(path)
     lines = _lines(path)
@@ -105,27 +238,26 @@ def read_at2(path: str | Path, *, dt: float | None = None, units: str | None = N
     if npts_value != int(npts_value) or npts_value < 2:
         raise RecordFormatError(path, 4, f"NPTS = {match['npts']} must be a whole number >= 2")
     npts = int(npts_value)
-    file_dt = _checked_dt(_number(match["dt"], path, 4), path, 4, "DT")
-    if dt is not None and not math.isclose(float(dt), file_dt, rel_tol=1e-6):
-        raise RecordFormatError(path, 4, f"the file says DT = {file_dt:g} s but dt = {dt:g} s was given")
-    if units is None:
-        unit_match = _UNITS_LINE.search(lines[2])
-        if not unit_match:
-            raise RecordFormatError(path, 3, f"no 'UNITS OF ...' in {lines[2].strip()!r}; give the units explicitly")
-        file_units = _checked_units(unit_match["units"], path, 3, "units")
-    else:
-        file_units = _checked_units(units, path, None, "units")
+    header_dt = _checked_dt(_number(match["dt"], path, 4), path, 4, "DT")
+    file_dt = _resolve_dt(path, [_Stated(header_dt, "the header (DT)", 4)], dt, "")
+    stated_units = _at2_units(lines[2])
+    file_units = _resolve_units(
+        path,
+        None if stated_units is None else _Stated(stated_units, "the units line", 3),
+        units,
+        f"no units on line 3 ({lines[2].strip()!r}); give them (--units g|m/s^2|cm/s^2)",
+        line=3,
+    )
 
     values: list[float] = []
     last_line = 4
     for number, text in enumerate(lines[4:], start=5):
-        tokens = text.split()
-        if tokens:
+        found = _numbers(text, path, number)
+        if found:
             last_line = number
-        for token in tokens:
-            if len(values) == npts:
-                raise RecordFormatError(path, number, f"more values than NPTS = {npts} (the header disagrees with the data)")
-            values.append(_number(token, path, number))
+        if len(values) + len(found) > npts:
+            raise RecordFormatError(path, number, f"more values than NPTS = {npts} (the header disagrees with the data)")
+        values.extend(found)
     if len(values) < npts:
         raise RecordFormatError(
             path, last_line, f"truncated: NPTS = {npts} but the data end after {len(values)} values"
@@ -138,36 +270,56 @@ def read_at2(path: str | Path, *, dt: float | None = None, units: str | None = N
 # -- columns (CSV, whitespace) ----------------------------------------------------------------
 
 _TIME_NAME = re.compile(r"^\s*(t|time)\b", re.IGNORECASE)
-_BRACKETED_UNIT = re.compile(r"[\[(]\s*([^\])]+?)\s*[\])]")
 _COMMENT_KEY = re.compile(r"^[#%]\s*(?P<key>units?|dt)\s*[:=]\s*(?P<value>.+?)\s*$", re.IGNORECASE)
+_DECIMAL_COMMA = re.compile(r"^[+-]?\d*,\d+(?:[EeDd][+-]?\d+)?$")
 
 
-def _split(text: str, delimiter: str | None) -> list[str]:
-    return [cell.strip() for cell in text.split(delimiter)] if delimiter else text.split()
+def _delimiter(line: str) -> str | None:
+    # ';' and tab first: a file with decimal commas ("1,5;2,5") contains ',' as well.
+    return next((d for d in (";", "\t", ",") if d in line), None)
 
 
-def _is_number(token: str) -> bool:
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
+def _cells(line: str, delimiter: str | None) -> list[str]:
+    if delimiter is None:
+        return line.split()
+    if line.endswith(delimiter):  # a trailing delimiter ends the row, it does not open a column
+        line = line[: -len(delimiter)]
+    return [cell.strip() for cell in line.split(delimiter)]
+
+
+def _numeric_text(cell: str, delimiter: str | None) -> str:
+    # With ';' or tab between cells a comma can only be a decimal comma: "1,5" is 1.5.
+    return cell.replace(",", ".") if delimiter in (";", "\t") and _DECIMAL_COMMA.match(cell) else cell
+
+
+def _row(cells: list[str], delimiter: str | None, path: Path, line: int) -> list[float]:
+    if delimiter is None:  # whitespace columns may be fixed-width, with glued values
+        return _numbers(" ".join(cells), path, line)
+    values = []
+    for j, cell in enumerate(cells):
+        if not cell:
+            raise RecordFormatError(path, line, f"column {j + 1} is empty")
+        values.append(_number(_numeric_text(cell, delimiter), path, line))
+    return values
 
 
 def read_columns(path: str | Path, *, dt: float | None = None, units: str | None = None) -> list[Trace]:
     """Components from a text file with one column per component (CSV, ``;``, tab or spaces).
 
     Lines starting with ``#`` or ``%`` are comments; ``# units: g`` and ``# dt: 0.01`` are
-    understood. An optional first row of column names may carry units (``ax [g]``,
-    ``a_ew (m/s^2)``). The first column is a time column if its name is ``t``/``time...`` or, in a
-    file without names, if it increases in equal steps; otherwise ``dt`` must be given (argument
-    or comment). Every other column is one acceleration component, in file order.
+    understood. An optional first row of column names (no cell of it a number) may carry units
+    (``ax [g]``, ``a_ew (m/s^2)``). With ``;`` or tab between cells, ``1,5`` is read as 1.5; a
+    trailing delimiter is ignored. The first column is a time column if its name is
+    ``t``/``time...`` or, in a file without names, if it increases from row to row (at least 3
+    rows; it must then increase in equal steps). Every other column is one acceleration
+    component, in file order. ``dt`` and ``units`` are used only when the file states neither a
+    time column nor a ``# dt`` (resp. no units), and must agree with the file otherwise.
     """
     path = Path(path)
     lines = _lines(path)
-    comment_values: dict[str, tuple[str, int]] = {}
+    comments: dict[str, _Stated] = {}
     header: tuple[list[str], int] | None = None
-    rows: list[tuple[int, list[str]]] = []
+    rows: list[tuple[int, list[float]]] = []
     delimiter: str | None = None
     for number, text in enumerate(lines, start=1):
         stripped = text.strip()
@@ -177,75 +329,67 @@ def read_columns(path: str | Path, *, dt: float | None = None, units: str | None
             found = _COMMENT_KEY.match(stripped)
             if found:
                 key = "units" if found["key"].lower().startswith("unit") else "dt"
-                comment_values[key] = (found["value"], number)
+                comments[key] = _Stated(found["value"], f"the '# {key}' comment", number)
             continue
         if delimiter is None:
-            delimiter = next((d for d in (",", ";", "\t") if d in stripped), None)
-        cells = _split(stripped, delimiter)
-        if header is None and not rows and not all(_is_number(c) for c in cells):
+            delimiter = _delimiter(stripped)
+        cells = _cells(stripped, delimiter)
+        # Only a row without a single number is a header: "1,2,x" is data with a typo, and taking
+        # it for names would silently drop a sample.
+        if header is None and not rows and not any(_looks_numeric(_numeric_text(c, delimiter)) for c in cells):
             header = (cells, number)
             continue
-        rows.append((number, cells))
+        rows.append((number, _row(cells, delimiter, path, number)))
     if len(rows) < 2:
         raise RecordFormatError(path, len(lines) or 1, f"expected at least 2 rows of numbers, found {len(rows)}")
     width = len(rows[0][1])
     if header is not None and len(header[0]) != width:
         raise RecordFormatError(path, header[1], f"{len(header[0])} column names but {width} columns of data")
-    data = np.empty((len(rows), width))
-    for i, (number, cells) in enumerate(rows):
-        if len(cells) != width:
-            raise RecordFormatError(path, number, f"{len(cells)} values where the first data row has {width} (truncated row?)")
-        data[i] = [_number(c, path, number) for c in cells]
+    for number, values in rows:
+        if len(values) != width:
+            raise RecordFormatError(path, number, f"{len(values)} values where the first data row has {width} (truncated row?)")
+    data = np.array([values for _, values in rows])
 
     names = header[0] if header else [""] * width
     if header:
         has_time = bool(_TIME_NAME.match(names[0]))
+        what = f"the time column {names[0]!r}"
     else:
-        # Guess only when nothing else gives the step; a lone column is always acceleration.
-        has_time = dt is None and "dt" not in comment_values and width > 1 and _uniformly_increasing(data[:, 0])
+        # An acceleration never rises from row to row, so such a first column is a time axis.
+        has_time = width > 1 and len(rows) >= 3 and bool(np.all(np.diff(data[:, 0]) > 0))
+        what = "the first column (increasing, so taken for time; a header row naming the columns says otherwise)"
+    stated_dt = []
     if has_time:
-        steps = np.diff(data[:, 0])
-        step = float(steps.mean()) if steps.size else math.nan
-        if not np.all(steps > 0):
-            bad = int(np.flatnonzero(steps <= 0)[0])
-            raise RecordFormatError(path, rows[bad + 1][0], "the time column must increase (the time step must be > 0)")
-        irregular = np.flatnonzero(np.abs(steps - step) > 1e-3 * step)
-        if irregular.size:
-            bad = int(irregular[0])
-            raise RecordFormatError(
-                path, rows[bad + 1][0], f"time step {steps[bad]:g} s differs from the mean {step:g} s: samples must be equally spaced"
-            )
-        if dt is not None and not math.isclose(float(dt), step, rel_tol=1e-3):
-            raise RecordFormatError(path, rows[1][0], f"the time column has dt = {step:g} s but dt = {dt:g} s was given")
-        file_dt = step
+        step, bad, problem = _time_step(data[:, 0])
+        if bad is not None:
+            raise RecordFormatError(path, rows[bad][0], f"{what}: {problem}")
+        stated_dt.append(_Stated(step, what, rows[1][0]))
         data, names = data[:, 1:], names[1:]
         if data.shape[1] == 0:
             raise RecordFormatError(path, rows[0][0], "only a time column, no acceleration columns")
-    elif dt is not None:
-        file_dt = _checked_dt(float(dt), path, None, "dt")
-    elif "dt" in comment_values:
-        text, number = comment_values["dt"]
-        file_dt = _checked_dt(_number(text, path, number), path, number, "dt")
-    else:
-        raise RecordFormatError(path, rows[0][0], "no time column and no dt: give dt (--dt) or a '# dt: <s>' comment")
+    if "dt" in comments:
+        comment = comments["dt"]
+        value = _checked_dt(_number(comment.value, path, comment.line), path, comment.line, "dt")
+        stated_dt.append(comment._replace(value=value))
+    file_dt = _resolve_dt(
+        path, stated_dt, dt, "no time column and no dt: give dt (--dt) or a '# dt: <s>' comment", line=rows[0][0]
+    )
 
-    if units is not None:
-        file_units = [_checked_units(units, path, None, "units")] * data.shape[1]
-    else:
-        file_units = []
-        for name in names:
-            bracket = _BRACKETED_UNIT.search(name)
-            if bracket:
-                file_units.append(_checked_units(bracket[1], path, header[1], f"units of column {name!r}"))
-            elif "units" in comment_values:
-                text, number = comment_values["units"]
-                file_units.append(_checked_units(text, path, number, "units"))
-            else:
-                raise RecordFormatError(
-                    path, header[1] if header else rows[0][0],
-                    "the units are not stated: give them (--units g|m/s^2|cm/s^2), a '# units: ...' comment or "
-                    "column names like 'ax [g]'",
-                )
+    file_units = []
+    for name in names:
+        bracket = _BRACKETED_UNIT.search(name)
+        if bracket:
+            stated = _Stated(bracket[1], f"column {name!r}", header[1])
+        else:
+            stated = comments.get("units")
+        file_units.append(
+            _resolve_units(
+                path, stated, units,
+                "the units are not stated: give them (--units g|m/s^2|cm/s^2), a '# units: ...' comment or "
+                "column names like 'ax [g]'",
+                line=header[1] if header else rows[0][0],
+            )
+        )
     labels = [_BRACKETED_UNIT.sub("", name).strip() for name in names]
     return [
         Trace(data[:, j], file_dt, file_units[j], label=labels[j], metadata={"format": "columns", "column": j})
@@ -253,102 +397,188 @@ def read_columns(path: str | Path, *, dt: float | None = None, units: str | None
     ]
 
 
-def _uniformly_increasing(column: np.ndarray) -> bool:
-    # An acceleration never rises in equal steps, so such a first column is a time axis.
-    steps = np.diff(column)
-    return column.size >= 3 and bool(np.all(steps > 0)) and float(np.ptp(steps)) <= 1e-6 * float(steps.mean())
-
-
 def _sniff_columns(path: Path) -> bool:
     try:
-        with open(path, encoding="latin-1") as handle:
-            for _ in range(50):
-                text = handle.readline()
-                if not text:
-                    return False
-                stripped = text.strip()
-                if stripped and stripped[0] not in "#%":
-                    cells = re.split(r"[,;\s]+", stripped)
-                    if all(_is_number(c) for c in cells if c):
-                        return True
-    except (OSError, UnicodeDecodeError):
+        lines = _lines(path, limit=65536)
+    except RecordFormatError:
         return False
+    for text in lines[:50]:
+        stripped = text.strip()
+        if stripped and stripped[0] not in "#%":
+            delimiter = _delimiter(stripped)
+            if all(_looks_numeric(_numeric_text(c, delimiter)) for c in _cells(stripped, delimiter)):
+                return True
     return False
 
 
 # -- NumPy .npz -------------------------------------------------------------------------------
 
-_NPZ_ROLE_KEYS = ("h1", "h2", "v")
 _NPZ_TIME_KEYS = ("time", "t")
+_NPZ_STACK_KEYS = ("acc", "acceleration")
+# Arrays that describe the record rather than hold a component.
+_NPZ_META_KEYS = {
+    "dt", "units", "names", "source", "synthetic", "lengths", "source_units", "scale_factor", "metadata",
+    *_NPZ_TIME_KEYS,
+}
+
+
+def _npz_arrays(path: Path) -> dict[str, np.ndarray]:
+    """Every array of the archive; one that cannot be loaded (pickled objects) names itself."""
+    try:
+        archive = np.load(path, allow_pickle=False)
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
+        raise RecordFormatError(path, None, f"not a readable .npz archive ({exc})") from None
+    if not isinstance(archive, np.lib.npyio.NpzFile):
+        raise RecordFormatError(path, None, "a single .npy array, not an .npz archive of named arrays (np.savez)")
+    arrays = {}
+    with archive:
+        for key in archive.files:
+            try:
+                arrays[key] = archive[key]
+            except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
+                # allow_pickle=False: an object array (strings of mixed length, lists) cannot be loaded.
+                raise RecordFormatError(path, None, f"cannot load the array ({exc})", f"array {key!r}") from None
+    return arrays
+
+
+def _npz_scalar(arrays: dict[str, np.ndarray], key: str, path: Path, kind: str) -> Any:
+    """The single value of array ``key``: ``kind`` is "number", "text" or "flag"."""
+    array = arrays[key]
+    if array.size != 1:
+        raise RecordFormatError(path, None, f"must be a single {kind}, got an array of shape {array.shape}", f"array {key!r}")
+    value = array.reshape(()).item()
+    ok = {
+        "number": isinstance(value, (int, float)) and not isinstance(value, bool),
+        "text": isinstance(value, str),
+        "flag": isinstance(value, bool),
+    }[kind]
+    if not ok:
+        raise RecordFormatError(path, None, f"must be a single {kind}, got {value!r} (dtype {array.dtype})", f"array {key!r}")
+    return value
+
+
+def _npz_texts(arrays: dict[str, np.ndarray], key: str, path: Path, count: int) -> list[str]:
+    array = arrays[key]
+    if array.dtype.kind not in "US" or array.shape != (count,):
+        raise RecordFormatError(
+            path, None, f"must be {count} strings, one per component, got shape {array.shape} (dtype {array.dtype})",
+            f"array {key!r}",
+        )
+    return [str(s) for s in array]
+
+
+def _npz_series(path: Path, key: str, values: np.ndarray) -> np.ndarray:
+    where = f"array {key!r}"
+    if values.dtype.kind not in "iuf":
+        raise RecordFormatError(path, None, f"is not real numbers (dtype {values.dtype})", where)
+    if values.ndim != 1 or values.size < 2:
+        raise RecordFormatError(path, None, f"must be 1-D with at least 2 samples, got shape {values.shape}", where)
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size:
+        raise RecordFormatError(path, None, f"value {values[bad[0]]} is not finite", f"{where}, index {bad[0]}")
+    return values.astype(float)
 
 
 def read_npz(path: str | Path, *, dt: float | None = None, units: str | None = None) -> list[Trace]:
     """Components from a NumPy ``.npz`` archive (``np.savez``; no pickled objects).
 
     Components: the arrays ``h1``, ``h2``, ``v`` if present; else an ``acc`` (or
-    ``acceleration``) array of shape ``(3, n)``; else every other 1-D numeric array in stored
-    order. Time step: a scalar ``dt`` or a ``time``/``t`` array; the argument ``dt`` if neither.
-    Units: a string ``units`` (the argument overrides it). Optional ``names``: component labels.
+    ``acceleration``) array of shape ``(3, n)`` or ``(n, 3)``; else every other numeric array
+    (each must be 1-D) in stored order. Time step: a scalar ``dt`` and/or a ``time``/``t``
+    array (equally spaced; both must agree); the argument ``dt`` only if the archive has
+    neither, and it must agree otherwise. Units: a string ``units``; the argument only if there
+    is none (an error if it differs). Optional: ``names`` (component labels), ``source``,
+    ``synthetic``, and what :meth:`Record.to_npz` writes besides: ``lengths`` (the components'
+    unpadded lengths), ``source_units``, ``scale_factor`` and ``metadata`` (a JSON object).
     Problems are located by array name and index (an archive has no lines).
     """
     path = Path(path)
-    try:
-        archive = np.load(path, allow_pickle=False)
-    except (OSError, ValueError) as exc:
-        raise RecordFormatError(path, None, f"not a readable .npz archive ({exc})") from None
-    with archive:
-        arrays = {key: archive[key] for key in archive.files}
-    meta_keys = {"dt", "units", "names", "source", "synthetic", *_NPZ_TIME_KEYS}
-    if all(k in arrays for k in _NPZ_ROLE_KEYS):
-        series = [(k, arrays[k]) for k in _NPZ_ROLE_KEYS]
-    elif "acc" in arrays or "acceleration" in arrays:
-        key = "acc" if "acc" in arrays else "acceleration"
+    arrays = _npz_arrays(path)
+    if all(k in arrays for k in ROLES):
+        series = [(k, _npz_series(path, k, arrays[k])) for k in ROLES]
+    elif any(k in arrays for k in _NPZ_STACK_KEYS):
+        key = next(k for k in _NPZ_STACK_KEYS if k in arrays)
         stack = arrays[key]
         if stack.ndim != 2 or 3 not in stack.shape:
-            raise RecordFormatError(path, None, f"array {key!r} must have shape (3, n) or (n, 3), got {stack.shape}", f"array {key!r}")
+            raise RecordFormatError(path, None, f"must have shape (3, n) or (n, 3), got {stack.shape}", f"array {key!r}")
         stack = stack if stack.shape[0] == 3 else stack.T
-        series = [(f"{key}[{i}]", stack[i]) for i in range(3)]
+        series = [(f"{key}[{i}]", _npz_series(path, f"{key}[{i}]", stack[i])) for i in range(3)]
     else:
-        series = [(k, a) for k, a in arrays.items() if k not in meta_keys and a.ndim == 1]
+        # Text arrays (notes, comments) cannot be components; every numeric one must be.
+        others = [(k, a) for k, a in arrays.items() if k not in _NPZ_META_KEYS and a.dtype.kind not in "US"]
+        series = [(k, _npz_series(path, k, a)) for k, a in others]
     if not series:
         raise RecordFormatError(path, None, f"no acceleration arrays found (arrays: {', '.join(arrays) or 'none'})")
-    for key, values in series:
-        if not np.issubdtype(values.dtype, np.number) or np.iscomplexobj(values):
-            raise RecordFormatError(path, None, f"array {key!r} is not real numbers (dtype {values.dtype})", f"array {key!r}")
-        bad = np.flatnonzero(~np.isfinite(values))
-        if bad.size:
-            raise RecordFormatError(path, None, f"value {values[bad[0]]} is not finite", f"array {key!r}, index {bad[0]}")
 
+    if "lengths" in arrays:  # written by Record.to_npz: the components before zero padding
+        lengths = arrays["lengths"]
+        where = "array 'lengths'"
+        if lengths.dtype.kind not in "iu" or lengths.shape != (len(series),):
+            raise RecordFormatError(path, None, f"must be {len(series)} whole numbers, got {lengths!r}", where)
+        for i, ((key, values), k) in enumerate(zip(series, lengths)):
+            if not 2 <= k <= values.size:
+                raise RecordFormatError(
+                    path, None, f"{k} is not between 2 and the length {values.size} of {key!r}", f"{where}, index {i}"
+                )
+        series = [(key, values[:k]) for (key, values), k in zip(series, lengths)]
+
+    stated_dt = []
     if "dt" in arrays:
-        file_dt = _checked_dt(float(arrays["dt"]), path, None, "array 'dt'")
-        if dt is not None and not math.isclose(float(dt), file_dt, rel_tol=1e-6):
-            raise RecordFormatError(path, None, f"the archive says dt = {file_dt:g} s but dt = {dt:g} s was given")
-    elif any(k in arrays for k in _NPZ_TIME_KEYS):
-        key = next(k for k in _NPZ_TIME_KEYS if k in arrays)
-        steps = np.diff(arrays[key].astype(float))
-        if steps.size == 0 or not np.all(steps > 0) or float(np.ptp(steps)) > 1e-3 * float(steps.mean()):
-            raise RecordFormatError(path, None, "the time array must increase in equal steps", f"array {key!r}")
-        file_dt = float(steps.mean())
-    elif dt is not None:
-        file_dt = _checked_dt(float(dt), path, None, "dt")
-    else:
-        raise RecordFormatError(path, None, "no 'dt' or 'time' array and no dt given (--dt)")
+        step = _checked_dt(float(_npz_scalar(arrays, "dt", path, "number")), path, None, "array 'dt'")
+        stated_dt.append(_Stated(step, "array 'dt'"))
+    time_key = next((k for k in _NPZ_TIME_KEYS if k in arrays), None)
+    if time_key is not None:
+        where = f"array {time_key!r}"
+        times = _npz_series(path, time_key, arrays[time_key])
+        longest = max(values.size for _, values in series)
+        if times.size != longest:
+            raise RecordFormatError(path, None, f"has {times.size} times for {longest} samples", where)
+        step, bad, problem = _time_step(times)
+        if bad is not None:
+            raise RecordFormatError(path, None, problem, f"{where}, index {bad}")
+        stated_dt.append(_Stated(step, where))
+    file_dt = _resolve_dt(path, stated_dt, dt, "no 'dt' or 'time' array and no dt given (--dt)")
 
-    if units is not None:
-        file_units = _checked_units(units, path, None, "units")
-    elif "units" in arrays:
-        file_units = _checked_units(str(arrays["units"]), path, None, "array 'units'")
+    stated_units = None if "units" not in arrays else _Stated(_npz_scalar(arrays, "units", path, "text"), "array 'units'")
+    file_units = _resolve_units(
+        path, stated_units, units, "no 'units' array and no units given (--units g|m/s^2|cm/s^2)"
+    )
+    if "names" in arrays:
+        labels = _npz_texts(arrays, "names", path, len(series))
     else:
-        raise RecordFormatError(path, None, "no 'units' array and no units given (--units g|m/s^2|cm/s^2)")
-    labels = [str(s) for s in arrays["names"]] if "names" in arrays and arrays["names"].size == len(series) else [
-        key if key in _NPZ_ROLE_KEYS else "" for key, _ in series
-    ]
+        labels = [key if key in ROLES else "" for key, _ in series]
+
     meta: dict[str, Any] = {"format": "npz"}
     if "source" in arrays:
-        meta["source"] = str(arrays["source"])
+        meta["source"] = _npz_scalar(arrays, "source", path, "text")
     if "synthetic" in arrays:
-        meta["synthetic"] = bool(arrays["synthetic"])
-    return [Trace(values, file_dt, file_units, label=label, metadata=meta) for (key, values), label in zip(series, labels)]
+        meta["synthetic"] = _npz_scalar(arrays, "synthetic", path, "flag")
+    record_meta: dict[str, Any] = {}
+    if "metadata" in arrays:
+        try:
+            record_meta = json.loads(_npz_scalar(arrays, "metadata", path, "text"))
+        except json.JSONDecodeError as exc:
+            raise RecordFormatError(path, None, f"is not a JSON object ({exc})", "array 'metadata'") from None
+        if not isinstance(record_meta, dict):
+            raise RecordFormatError(path, None, "is not a JSON object", "array 'metadata'")
+    if "scale_factor" in arrays:
+        factor = float(_npz_scalar(arrays, "scale_factor", path, "number"))
+        if not math.isfinite(factor) or factor <= 0:
+            raise RecordFormatError(path, None, f"{factor!r} must be finite and > 0", "array 'scale_factor'")
+        if factor != 1.0:
+            record_meta["scale_factor"] = factor
+    if record_meta:
+        meta["record"] = record_meta
+    originals = [None] * len(series)
+    if "source_units" in arrays:
+        originals = [
+            _checked_units(u, path, None, f"array 'source_units', index {i}")
+            for i, u in enumerate(_npz_texts(arrays, "source_units", path, len(series)))
+        ]
+    return [
+        Trace(values, file_dt, file_units, label=label, metadata={**meta, **({"source_units": o} if o else {})})
+        for (_, values), label, o in zip(series, labels, originals)
+    ]
 
 
 def _sniff_npz(path: Path) -> bool:
@@ -407,7 +637,9 @@ def find_reader(path: str | Path, name: str | None = None, registry=None):
             raise UnknownReaderError(f"unknown record format {name!r}; known formats: {_known(readers)}")
         return readers[name]
     lower = path.name.lower()
-    by_suffix = [r for r in readers.values() if any(lower.endswith(s) for s in getattr(r, "suffixes", ()))]
+    # Case-insensitive both ways: a third-party reader may declare ".DAT" (not every reader is a
+    # RecordReader, which lower-cases its suffixes).
+    by_suffix = [r for r in readers.values() if any(lower.endswith(s.lower()) for s in getattr(r, "suffixes", ()))]
 
     def sniffs(reader) -> bool:
         sniff = getattr(reader, "sniff", None)
@@ -440,7 +672,8 @@ def read_record(
     The components of all files, in the order given and within each file in the file's order,
     are horizontal 1, horizontal 2 and vertical: three ``.AT2`` files, or one file with three
     acceleration columns. ``format`` names a reader (default: chosen per file); ``dt`` and
-    ``units`` are passed to the readers for files that do not state them.
+    ``units`` are passed to the readers, which use them only for files that do not state them
+    (and reject them when they contradict a file).
     """
     if isinstance(paths, (str, Path)):
         paths = [paths]
@@ -469,10 +702,11 @@ def read_record(
     synthetic = any(t.metadata.get("synthetic", False) for t in traces)
     stored_source = next((t.metadata["source"] for t in traces if "source" in t.metadata), None)
     source = stored_source or ", ".join(p.name for p in paths)
+    stored = next((t.metadata["record"] for t in traces if "record" in t.metadata), {})  # an archive bearingfw wrote
     return assemble(
         traces,
         source=source,
         synthetic=synthetic,
-        metadata={"files": [str(p) for p in paths], "readers": used, "g": G},
+        metadata={**stored, "files": [str(p) for p in paths], "readers": used, "g": G},
     )
 

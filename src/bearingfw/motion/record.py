@@ -9,6 +9,7 @@ zeros, and the record keeps the original lengths so that it can say which compon
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Mapping, Sequence
 from fractions import Fraction
@@ -22,6 +23,7 @@ from scipy import signal
 from bearingfw.parameters import ParameterError, parameter
 
 __all__ = [
+    "DEFAULT_NAMES",
     "G",
     "ROLES",
     "UNIT_FACTORS",
@@ -49,10 +51,19 @@ _UNIT_ALIASES = {
 #: The component roles of a record, in the order files and columns are assigned to them.
 ROLES = ("h1", "h2", "v")
 
+#: Component labels when the files give none, one per role.
+DEFAULT_NAMES = ("H1", "H2", "V")
+
+# Punctuation around a unit in free text: "G.", "(G)", "[cm/s^2]", "g;".
+_UNIT_PUNCTUATION = " \t.,;:()[]{}'\""
+
 
 def normalize_units(text: Any) -> str:
-    """The canonical name (``g``, ``m/s^2`` or ``cm/s^2``) of an acceleration unit spelling."""
-    key = str(text).strip().lower().replace("²", "^2")
+    """The canonical name (``g``, ``m/s^2`` or ``cm/s^2``) of an acceleration unit spelling.
+
+    Surrounding punctuation is ignored, so ``G.``, ``(G)`` and ``[cm/s^2]`` are understood.
+    """
+    key = str(text).strip().strip(_UNIT_PUNCTUATION).lower().replace("²", "^2")
     if key in _UNIT_ALIASES:
         return _UNIT_ALIASES[key]
     raise ParameterError(f"unknown acceleration unit {text!r}; allowed: g, m/s^2, cm/s^2 (or gal)")
@@ -78,7 +89,13 @@ def _check_vector(instance, attribute, value):
 
 @attrs.frozen(eq=False)
 class Trace:
-    """One acceleration component as a reader found it: values in ``units``, sampled every ``dt`` s."""
+    """One acceleration component as a reader found it: values in ``units``, sampled every ``dt`` s.
+
+    ``metadata`` is free-form; two keys have a meaning for :func:`assemble`: ``source_units``,
+    the units of the original recording when the values were converted before (an archive
+    bearingfw wrote holds m/s^2 but remembers that the files were in g), and ``record``, a
+    mapping of record-level metadata that such an archive stored (seed, scale factor, ...).
+    """
 
     values: np.ndarray = attrs.field(converter=_float_vector, validator=_check_vector)
     dt: float = parameter(low=0.0, low_open=True, unit="s", doc="time step")
@@ -104,6 +121,11 @@ def _check_lengths(instance, attribute, value):
         raise ParameterError(f"Record: 'lengths' must be three sample counts between 1 and n = {n}, got {value!r}")
 
 
+def _check_source_units(instance, attribute, value):
+    if not (isinstance(value, tuple) and len(value) == 3):
+        raise ParameterError(f"Record: 'source_units' must be three units (h1, h2, v), got {value!r}")
+
+
 @attrs.frozen(eq=False)
 class Record:
     """A three-component ground acceleration record in m/s^2.
@@ -112,6 +134,14 @@ class Record:
     same length ``n``. ``lengths`` are the components' sample counts before zero padding (None:
     nothing was padded). ``source`` says where the record came from; ``synthetic`` is True for
     generated motion, which every printout and plot then labels as synthetic.
+
+    ``metadata`` keys bearingfw sets: ``scale_factor`` (product of all scalings),
+    ``resampled_from`` (each component's time step before resampling),
+    ``peaks_before_resampling`` (each component's peak in m/s^2 before resampling, times any
+    later scale factor: band-limited resampling changes peaks), ``notes`` (sentences a printout
+    should show; :attr:`notes` adds one per resampled component), ``seed`` (synthetic motion),
+    ``level``/``degree``/``scale`` (after :func:`~bearingfw.motion.scale_to_level`),
+    ``files``/``readers`` (records read from files).
     """
 
     units: ClassVar[str] = "m/s^2"
@@ -120,13 +150,15 @@ class Record:
     h2: np.ndarray = attrs.field(converter=_float_vector, validator=_check_vector)
     v: np.ndarray = attrs.field(converter=_float_vector, validator=_check_vector)
     dt: float = parameter(low=0.0, low_open=True, unit="s", doc="time step")
-    names: tuple[str, str, str] = attrs.field(default=("H1", "H2", "V"), converter=tuple, validator=_check_names)
+    names: tuple[str, str, str] = attrs.field(default=DEFAULT_NAMES, converter=tuple, validator=_check_names)
     source: str = ""
     synthetic: bool = attrs.field(default=False, converter=bool)
     lengths: tuple[int, int, int] | None = attrs.field(
         default=None, converter=attrs.converters.optional(lambda v: tuple(int(k) for k in v)), validator=_check_lengths
     )
-    source_units: tuple[str, str, str] = attrs.field(default=("m/s^2",) * 3, converter=tuple)
+    source_units: tuple[str, str, str] = attrs.field(
+        default=("m/s^2",) * 3, converter=lambda v: tuple(normalize_units(u) for u in v), validator=_check_source_units
+    )
     metadata: Mapping[str, Any] = attrs.field(factory=dict)
 
     def __attrs_post_init__(self):
@@ -166,7 +198,7 @@ class Record:
             raise ParameterError(f"Record: component must be one of {', '.join(ROLES)}, got {role!r}")
         return getattr(self, role)
 
-    # -- padding -------------------------------------------------------------------------------
+    # -- padding and resampling ----------------------------------------------------------------
     @property
     def original_lengths(self) -> tuple[int, int, int]:
         return self.lengths if self.lengths is not None else (self.n,) * 3
@@ -180,6 +212,32 @@ class Record:
     def padded_components(self) -> tuple[str, ...]:
         """The names of the components padded with trailing zeros."""
         return tuple(name for name, k in zip(self.names, self.original_lengths) if k < self.n)
+
+    @property
+    def was_resampled(self) -> tuple[bool, bool, bool]:
+        """For each component (h1, h2, v): was it resampled from another time step (its peak changed)?"""
+        steps = self.metadata.get("resampled_from") or (self.dt,) * 3
+        return tuple(not math.isclose(step, self.dt, rel_tol=1e-12) for step in steps)
+
+    @property
+    def resampled_components(self) -> tuple[str, ...]:
+        """The names of the resampled components."""
+        return tuple(name for name, flag in zip(self.names, self.was_resampled) if flag)
+
+    @property
+    def notes(self) -> tuple[str, ...]:
+        """What a printout of this record should say besides its numbers: ``metadata['notes']`` and,
+        for each resampled component, its peak after and before resampling."""
+        notes = list(self.metadata.get("notes", ()))
+        steps = self.metadata.get("resampled_from") or (self.dt,) * 3
+        before = self.metadata.get("peaks_before_resampling") or [_peak(c) for c in self.components]
+        for name, flag, step, values, p0 in zip(self.names, self.was_resampled, steps, self.components, before):
+            if flag:
+                notes.append(
+                    f"{name} resampled from dt = {step:g} s to {self.dt:g} s (band-limited interpolation): its peak "
+                    f"is {_peak(values):.4g} m/s^2 after resampling, {p0:.4g} m/s^2 before"
+                )
+        return tuple(notes)
 
     # -- labels --------------------------------------------------------------------------------
     @property
@@ -201,28 +259,75 @@ class Record:
             raise ParameterError(f"Record.scaled: factor must be finite and > 0, got {factor!r}")
         meta = dict(self.metadata)
         meta["scale_factor"] = meta.get("scale_factor", 1.0) * factor
+        if "peaks_before_resampling" in meta:
+            meta["peaks_before_resampling"] = [p * factor for p in meta["peaks_before_resampling"]]
         meta.update(metadata)
         return attrs.evolve(self, h1=self.h1 * factor, h2=self.h2 * factor, v=self.v * factor, metadata=meta)
 
     def resampled(self, dt: float) -> Record:
-        """The record on the grid ``k dt`` (band-limited polyphase resampling, see :func:`resample`)."""
+        """The record on the grid ``k dt`` (band-limited polyphase resampling, see :func:`resample`).
+
+        Each component is resampled at its own (unpadded) length and padded afterwards, so that
+        the filter's ringing at the end of a short component does not spill into its padding.
+        The time steps and peaks before the first resampling stay in the metadata.
+        """
         if math.isclose(dt, self.dt, rel_tol=1e-12):
             return self
-        h1, h2, v = (resample(c, self.dt, dt) for c in (self.h1, self.h2, self.v))
-        lengths = None
-        if self.lengths is not None:
-            lengths = tuple(min(h1.size, math.ceil(k * self.dt / dt)) for k in self.lengths)
-        return attrs.evolve(self, h1=h1, h2=h2, v=v, dt=dt, lengths=lengths)
+        series = [resample(c[:k], self.dt, dt) for c, k in zip(self.components, self.original_lengths)]
+        (h1, h2, v), lengths = _pad_to_longest(series)
+        meta = dict(self.metadata)
+        meta.setdefault("peaks_before_resampling", [_peak(c) for c in self.components])
+        meta.setdefault("resampled_from", [self.dt] * 3)
+        return attrs.evolve(self, h1=h1, h2=h2, v=v, dt=dt, lengths=lengths, metadata=meta)
 
     def to_npz(self, path: str | Path) -> Path:
-        """Write the record as an ``.npz`` archive that the ``npz`` reader reads back."""
+        """Write the record as an ``.npz`` archive that the ``npz`` reader reads back unchanged.
+
+        Besides the components (padded, as in the record) the archive keeps ``dt``, ``units``,
+        ``names``, ``source``, ``synthetic``, ``lengths`` (the unpadded sample counts),
+        ``source_units``, ``scale_factor`` and the rest of the JSON-able metadata as the string
+        ``metadata``.
+        """
         path = Path(path)
+        meta = {k: v for k, v in self.metadata.items() if k != "scale_factor"}
         np.savez(
             path,
             h1=self.h1, h2=self.h2, v=self.v, dt=np.float64(self.dt), units=np.str_(self.units),
-            names=np.array(self.names), source=np.str_(self.title), synthetic=np.bool_(self.synthetic),
+            names=np.array(self.names), source=np.str_(self.source), synthetic=np.bool_(self.synthetic),
+            lengths=np.array(self.original_lengths, dtype=np.int64), source_units=np.array(self.source_units),
+            scale_factor=np.float64(self.metadata.get("scale_factor", 1.0)),
+            metadata=np.str_(json.dumps(meta, default=_json_value)),
         )
         return path if path.suffix == ".npz" else path.with_name(path.name + ".npz")
+
+
+def _json_value(value: Any) -> Any:
+    # numpy scalars and arrays in metadata become plain numbers and lists; anything else its text.
+    if isinstance(value, (np.generic, np.ndarray)):
+        return value.tolist()
+    return str(value)
+
+
+def _peak(values: np.ndarray) -> float:
+    return float(np.max(np.abs(values)))
+
+
+def _pad_to_longest(series: Sequence[np.ndarray]) -> tuple[list[np.ndarray], tuple[int, ...] | None]:
+    """Pad every series with trailing zeros to the longest; also the unpadded lengths (None if all equal)."""
+    lengths = tuple(s.size for s in series)
+    n = max(lengths)
+    padded = [np.concatenate([s, np.zeros(n - s.size)]) for s in series]
+    return padded, (lengths if min(lengths) < n else None)
+
+
+def _checked_step(value: Any, what: str) -> float:
+    try:
+        step = float(value)
+    except (TypeError, ValueError):
+        step = math.nan
+    if not math.isfinite(step) or step <= 0:
+        raise ParameterError(f"resample: {what} = {value!r} s is outside the allowed range {what} > 0 (finite)")
+    return step
 
 
 def resample(values: np.ndarray, dt_from: float, dt_to: float) -> np.ndarray:
@@ -232,8 +337,12 @@ def resample(values: np.ndarray, dt_from: float, dt_to: float) -> np.ndarray:
     signal goes through a polyphase filter (``scipy.signal.resample_poly``): interpolation by
     ``up``, a linear-phase Kaiser-window low-pass at the lower Nyquist frequency (the
     anti-aliasing filter when coarsening), decimation by ``down``. The output has
-    ``ceil(n up / down)`` samples and covers the same duration.
+    ``ceil(n up / down)`` samples: one at every ``k dt_to`` before ``n dt_from``, i.e. up to the
+    input's last sample plus one input step (so ``(n_out - 1) dt_to`` may differ from
+    ``(n - 1) dt_from`` by less than one step). Band-limited interpolation does not keep the
+    peaks: the reconstructed signal between samples can exceed the sampled peak.
     """
+    dt_from, dt_to = _checked_step(dt_from, "dt_from"), _checked_step(dt_to, "dt_to")
     ratio = Fraction(dt_from / dt_to).limit_denominator(1000)
     if ratio <= 0 or not math.isclose(float(ratio), dt_from / dt_to, rel_tol=1e-9):
         raise ParameterError(
@@ -258,7 +367,10 @@ def assemble(
 
     Units are converted to m/s^2. Every trace is resampled to ``dt`` (default: the finest time
     step among the traces, so that no trace loses content) and shorter traces are padded with
-    trailing zeros to the longest; the record's ``lengths`` keep the unpadded counts.
+    trailing zeros to the longest; the record's ``lengths`` keep the unpadded counts. When a trace
+    is resampled, the metadata keep every trace's time step and peak as read (``resampled_from``,
+    ``peaks_before_resampling``), because band-limited resampling changes peaks; the record's
+    :attr:`~Record.notes` then say so.
     """
     traces = list(traces)
     if len(traces) != 3:
@@ -268,18 +380,16 @@ def assemble(
     for trace in traces:
         if not isinstance(trace, Trace):
             raise TypeError(f"expected bearingfw.motion.Trace objects, got {trace!r}")
-    target = min(t.dt for t in traces) if dt is None else float(dt)
+    target = min(t.dt for t in traces) if dt is None else _checked_step(dt, "dt")
     series = [resample(t.in_si(), t.dt, target) for t in traces]
-    lengths = tuple(s.size for s in series)
-    n = max(lengths)
-    padded = [np.concatenate([s, np.zeros(n - s.size)]) for s in series]
+    padded, lengths = _pad_to_longest(series)
     if names is None:
-        names = tuple(t.label or default for t, default in zip(traces, ("H1", "H2", "V")))
+        names = tuple(t.label or default for t, default in zip(traces, DEFAULT_NAMES))
     meta = dict(metadata or {})
     if any(not math.isclose(t.dt, target, rel_tol=1e-12) for t in traces):
-        meta["resampled_from"] = [t.dt for t in traces]
+        meta.update(resampled_from=[t.dt for t in traces], peaks_before_resampling=[_peak(t.in_si()) for t in traces])
     return Record(
         h1=padded[0], h2=padded[1], v=padded[2], dt=target, names=tuple(names), source=source,
-        synthetic=synthetic, lengths=lengths if min(lengths) < n else None,
-        source_units=tuple(t.units for t in traces), metadata=meta,
+        synthetic=synthetic, lengths=lengths,
+        source_units=tuple(t.metadata.get("source_units") or t.units for t in traces), metadata=meta,
     )

@@ -25,7 +25,7 @@ import numpy as np
 
 from bearingfw.parameters import ParameterError
 
-__all__ = ["IntensityScale", "RecordReader", "BOUNDARY_RTOL"]
+__all__ = ["IntensityScale", "RecordReader", "BOUNDARY_RTOL", "check_suffixes"]
 
 #: Relative tolerance of a degree boundary: a PGA_H10 within rounding of a boundary is *on* it
 #: and so belongs to the lower degree (the bounds are inclusive).
@@ -37,7 +37,22 @@ def _non_empty_name(instance, attribute, value):
         raise ParameterError(f"{type(instance).__name__}: {attribute.name!r} must be a non-empty string, got {value!r}")
 
 
+def check_suffixes(reader_name: str, value: Any) -> tuple[str, ...]:
+    """A reader's ``suffixes`` checked (a tuple or list of endings like ``".at2"``) and lower-cased.
+
+    The one check for :class:`RecordReader` and for the duck-typed readers the registry accepts.
+    """
+    ok = isinstance(value, (tuple, list)) and all(isinstance(s, str) and s.startswith(".") and len(s) > 1 for s in value)
+    if not ok:
+        raise ParameterError(
+            f"record reader {reader_name!r}: 'suffixes' must be a tuple of file-name endings with a leading dot, "
+            f"e.g. ('.at2',), got {value!r}"
+        )
+    return tuple(s.lower() for s in value)
+
+
 def _suffix_tuple(value: Any) -> Any:
+    # One ending given as a string is a common slip; lower-case so that matching is by case-folded names.
     if isinstance(value, str):
         value = (value,)
     try:
@@ -47,11 +62,7 @@ def _suffix_tuple(value: Any) -> Any:
 
 
 def _check_suffixes(instance, attribute, value):
-    if not isinstance(value, tuple) or not all(isinstance(s, str) and s.startswith(".") and len(s) > 1 for s in value):
-        raise ParameterError(
-            f"record reader {instance.name!r}: 'suffixes' must be file-name endings with a leading dot, "
-            f"e.g. ('.at2',), got {value!r}"
-        )
+    check_suffixes(instance.name, value)
 
 
 def _check_callable(instance, attribute, value):
@@ -97,6 +108,16 @@ def _table(value: Any) -> Any:
         return value
 
 
+def _label_tuple(value: Any) -> Any:
+    # tuple("abc") would be ('a', 'b', 'c'): leave a string for the validator to reject.
+    if isinstance(value, str):
+        return value
+    try:
+        return tuple(value)
+    except TypeError:
+        return value
+
+
 def _check_degrees(instance, attribute, value):
     ok = isinstance(value, tuple) and value and all(isinstance(d, str) and d.strip() for d in value)
     if not ok or len(set(value)) != len(value):
@@ -122,8 +143,7 @@ def _check_bounds(instance, attribute, value):
             f"intensity scale {instance.name!r}: 'bounds' must have one row per degree ({rows}) and one value per "
             f"duration breakpoint ({cols}), got {value!r}"
         )
-    table = np.array(value, dtype=object)
-    if not all(isinstance(b, float) and math.isfinite(b) and b > 0 for b in table.ravel()):
+    if not all(isinstance(b, float) and math.isfinite(b) and b > 0 for row in value for b in row):
         raise ParameterError(f"intensity scale {instance.name!r}: every bound must be a finite number > 0 (m/s^2), got {value!r}")
     for j, t in enumerate(instance.durations):
         column = [row[j] for row in value]
@@ -147,7 +167,7 @@ class IntensityScale:
     """
 
     name: str = attrs.field(validator=_non_empty_name)
-    degrees: tuple[str, ...] = attrs.field(converter=tuple, validator=_check_degrees)
+    degrees: tuple[str, ...] = attrs.field(converter=_label_tuple, validator=_check_degrees)
     durations: tuple[float, ...] = attrs.field(converter=_float_tuple, validator=_check_durations)
     bounds: tuple[tuple[float, ...], ...] = attrs.field(converter=_table, validator=_check_bounds)
     description: str = ""
@@ -192,7 +212,17 @@ class IntensityScale:
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> IntensityScale:
-        unknown = sorted(set(data) - {"name", "description", "degrees", "durations", "bounds"})
+        """The scale of :meth:`to_dict`'s data; unknown or missing fields are named."""
+        if not isinstance(data, dict):
+            raise ParameterError(f"intensity scale: expected a mapping of fields, got {data!r}")
+        fields = {f.name: f for f in attrs.fields(cls)}
+        name = data.get("name", "?")
+        unknown = sorted(set(data) - set(fields))
         if unknown:
-            raise ParameterError(f"intensity scale: unknown field(s) {', '.join(map(repr, unknown))}")
+            raise ParameterError(
+                f"intensity scale {name!r}: unknown field(s) {', '.join(map(repr, unknown))}; fields: {', '.join(fields)}"
+            )
+        missing = [f for f, field in fields.items() if field.default is attrs.NOTHING and f not in data]
+        if missing:
+            raise ParameterError(f"intensity scale {name!r}: missing field(s) {', '.join(map(repr, missing))}")
         return cls(**data)

@@ -43,7 +43,8 @@ def bearingfw_register_record_readers():
 
     - ``name`` (str): the registry key, unique across all plugins, e.g. ``"peer-at2"``; users
       choose a reader by it (``bearingfw record info --format NAME``);
-    - ``suffixes`` (tuple of str): lower-case file-name endings with the dot, e.g. ``(".at2",)``;
+    - ``suffixes`` (tuple of str): file-name endings with the dot, matched case-insensitively,
+      e.g. ``(".at2",)``;
     - ``read(path, *, dt=None, units=None)``: returns a list of :class:`bearingfw.motion.Trace`
       (values, dt in s, units ``"g"``, ``"m/s^2"`` or ``"cm/s^2"``, label), one per acceleration
       component, in the file's order; ``dt`` and ``units`` are the user's overrides for formats

@@ -104,11 +104,9 @@ def _reader_key(reader: Any) -> str:
     name = getattr(reader, "name", None)
     if not isinstance(name, str) or not name:
         raise TypeError(f"record reader {reader!r}: 'name' must be a non-empty string")
-    suffixes = getattr(reader, "suffixes", None)
-    if isinstance(suffixes, str) or not isinstance(suffixes, (tuple, list)) or not all(
-        isinstance(s, str) and s.startswith(".") for s in suffixes
-    ):
-        raise TypeError(f"record reader {name!r}: 'suffixes' must be a tuple of endings like '.at2', got {suffixes!r}")
+    from bearingfw.plugins.contracts import check_suffixes  # the one suffix check, shared with RecordReader
+
+    check_suffixes(name, getattr(reader, "suffixes", None))
     if not callable(getattr(reader, "read", None)):
         raise TypeError(f"record reader {name!r}: 'read' must be callable")
     sniff = getattr(reader, "sniff", None)

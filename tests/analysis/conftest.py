@@ -7,7 +7,7 @@ import sys
 import types
 
 import pytest
-from kernel_models import DoubledSpring, FreeSliding2D, GuidedOnly
+from kernel_models import DoubledSpring, FreeSliding2D, GuidedOnly, NormalSpring
 
 import bearingfw
 from bearingfw.plugins import load_registry
@@ -15,12 +15,12 @@ from bearingfw.plugins import load_registry
 
 @pytest.fixture
 def plugin_registry(monkeypatch):
-    """The installed plugins plus a test plugin module registering three extra laws."""
+    """The installed plugins plus a test plugin module registering four extra laws."""
     module = types.ModuleType("bearingfw_kernel_test_plugin")
 
     @bearingfw.hookimpl
     def bearingfw_register_laws():
-        return [DoubledSpring, GuidedOnly, FreeSliding2D]
+        return [DoubledSpring, GuidedOnly, FreeSliding2D, NormalSpring]
 
     module.bearingfw_register_laws = bearingfw_register_laws
     monkeypatch.setitem(sys.modules, module.__name__, module)

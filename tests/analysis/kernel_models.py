@@ -134,6 +134,25 @@ class GuidedOnly:
         return bearingfw.LawResponse(self.k * u, np.full((u.shape[0], 1, 1), self.k), state)
 
 
+@attrs.frozen
+class NormalSpring:
+    """A test-only law whose stiffness is proportional to the normal force: F = c N u."""
+
+    name: ClassVar[str] = "test-normal-spring"
+    rigid: ClassVar[bool] = False
+    c: float = bearingfw.parameter(low=0.0, low_open=True, unit="1/m")
+    dims: int = bearingfw.dims_parameter()
+
+    def initial_state(self, n):
+        return {}
+
+    def respond(self, state, u, normal_force, dt):
+        u = np.asarray(u, dtype=float)
+        k = self.c * np.asarray(normal_force, dtype=float)
+        tangent = k[:, None, None] * np.eye(self.dims)[None]
+        return bearingfw.LawResponse(k[:, None] * u, tangent, state)
+
+
 class FreeSliding2D:
     """A test-only law without parameters: zero force in two directions."""
 

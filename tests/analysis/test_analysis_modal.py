@@ -4,13 +4,15 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 from kernel_models import RECT, STEEL, cantilever_model, deck_model
 
-from bearingfw.analysis import automac, mac, solve_modal
-from bearingfw.model import Connector, FrameElement, Model, NodalMass, Node, build_system
+import bearingfw.analysis.modal as modal_module
+from bearingfw.analysis import ConvergenceError, automac, eigen, gravity, mac, solve_modal
+from bearingfw.model import Connector, FrameElement, Model, ModelError, NodalMass, Node, RigidLink, build_system
 
 L = 10.0
 # beta_n L of a clamped-free beam (roots of cos(x) cosh(x) = -1)
@@ -93,13 +95,44 @@ def test_effective_masses_sum_to_the_mass_that_can_move():
     moving = STEEL.density * RECT.A * L * (1 - 1 / (2 * n))
     for d in ("x", "y", "z"):
         assert res.effective_mass[d].sum() == pytest.approx(moving, rel=1e-9)
+        assert res.movable_mass[d] == pytest.approx(moving, rel=1e-9)
+        assert res.total_mass[d] == pytest.approx(STEEL.density * RECT.A * L, rel=1e-12)  # all of it
+        assert res.mass_ratios[d].sum() == pytest.approx(1.0, rel=1e-9)
 
 
-def test_energy_shares_sum_to_one_and_labels_follow_the_shape():
+@pytest.mark.parametrize("mass", ["consistent", "lumped"])
+def test_movable_mass_is_the_sum_over_all_modes_with_supports_and_an_offset_mass(mass):
+    """A clamped member with a rigidly offset nodal mass: the ratios of all modes sum to 1."""
+    base = cantilever_model(n=4, L=6.0, mass=mass)
+    model = Model(
+        [*base.nodes, Node("off", 6.0, 1.5, -0.8)],
+        base.elements,
+        rigid_links=[RigidLink("offset", "N4", "off")],
+        supports=base.supports,
+        masses=[NodalMass("off", 1000.0, ixx=50.0)],
+    )
+    system = build_system(model)
+    res = solve_modal(system, int(np.linalg.matrix_rank(system.M_free.toarray())), method="dense")
+    for d in ("x", "y", "z", "rx", "ry", "rz"):
+        assert res.effective_mass[d].sum() == pytest.approx(res.movable_mass[d], rel=1e-9)
+        assert res.mass_ratios[d].sum() == pytest.approx(1.0, rel=1e-9)
+    assert res.movable_mass["z"] < res.total_mass["z"]
+
+
+def test_energy_shares_partition_the_kinetic_energy_and_labels_follow_the_shape():
     res = solve_modal(cantilever_model(n=10, L=L), 8)
-    total = sum(res.shares.values())
-    np.testing.assert_allclose(total, 1.0, rtol=1e-12)
     sys = res.system
+    # the kinetic energy p = phi * (M phi) of a mass-normalised mode sums to 1, and on this
+    # member along the deck axis (no mirror nodes, no antisymmetric uz) each label's share is
+    # the energy of its own components
+    p = res.shapes * (sys.M @ res.shapes)
+    np.testing.assert_allclose(p.sum(axis=0), 1.0, rtol=1e-9)
+    energy = {c: p[sys.dofmap.component_dofs(c)].sum(axis=0) for c in ("ux", "uy", "uz", "rx", "ry", "rz")}
+    np.testing.assert_allclose(res.shares["longitudinal"], energy["ux"], atol=1e-12)
+    np.testing.assert_allclose(res.shares["lateral"], energy["uy"] + energy["rz"], atol=1e-12)
+    np.testing.assert_allclose(res.shares["vertical"], energy["uz"] + energy["ry"], atol=1e-12)
+    np.testing.assert_allclose(res.shares["torsional"], energy["rx"], atol=1e-12)
+    assert max(max(v) for v in res.shares.values()) > 0.99  # the modes are pure
     for m, label in enumerate(res.labels):
         phi = res.shapes[:, m]
         parts = {c: np.linalg.norm(phi[sys.dofmap.component_dofs(c)]) for c in ("ux", "uy", "uz", "rx")}
@@ -148,9 +181,55 @@ def test_isotropic_planar_connector_does_not_depend_on_its_frame_orientation(ang
         base.supports,
         base.masses,
     )
-    a = solve_modal(base, 4, preload=None)
-    b = solve_modal(rotated, 4, preload=None)
-    np.testing.assert_allclose(a.frequencies, b.frequencies, rtol=1e-9)
+    a, b = gravity(base), gravity(rotated)
+    np.testing.assert_allclose(a.normal_forces, b.normal_forces, rtol=1e-9)
+    np.testing.assert_allclose(
+        solve_modal(base, 4, preload=a).frequencies, solve_modal(rotated, 4, preload=b).frequencies, rtol=1e-9
+    )
+
+
+def test_eigen_rejects_infinite_eigenvalues_in_both_solvers():
+    """M = V V^T of rank 3 on 60 DOFs, every diagonal term non-zero: 3 finite eigenvalues.
+
+    The count of DOFs with mass (60) does not see the 57 infinite eigenvalues; both solvers
+    must (the sparse one used to return a spurious ~1e10).
+    """
+    V = np.random.default_rng(0).uniform(0.5, 1.5, (60, 3))
+    K = sp.diags(np.arange(1.0, 61.0)).tocsr()
+    M = sp.csr_matrix(V @ V.T)
+    lowest = eigen(K, M, 3, method="dense")[0]
+    for method in ("dense", "sparse"):
+        np.testing.assert_allclose(eigen(K, M, 3, method=method)[0], lowest, rtol=1e-9)
+        with pytest.raises(ModelError, match="has only 3 with mass"):
+            eigen(K, M, 4, method=method)
+    with pytest.raises(ValueError, match="shift must be negative"):  # ModelError is a ValueError
+        eigen(K, M, 1, shift=1.0)
+
+
+def test_a_preload_that_does_not_converge_falls_back_with_a_warning(monkeypatch):
+    def no_convergence(*args, **kwargs):
+        raise ConvergenceError("solve_static: no equilibrium after 50 Newton iterations")
+
+    monkeypatch.setattr(modal_module, "gravity", no_convergence)
+    with pytest.warns(UserWarning, match="gravity preload failed \\(ConvergenceError"):
+        res = solve_modal(deck_model("regularized-coulomb", {"k": 4e8, "mu": 0.04}, per_span=2), 3)
+    assert not np.any(res.normal_forces)
+
+
+def test_the_automatic_preload_sets_the_bearings_after_the_dead_load_by_default(monkeypatch):
+    seen = []
+
+    def spy(system, **kwargs):
+        seen.append(kwargs.get("bearings"))
+        return gravity(system, **kwargs)
+
+    monkeypatch.setattr(modal_module, "gravity", spy)
+    model = deck_model("regularized-coulomb", {"k": 4e8, "mu": 0.04}, per_span=2)
+    solve_modal(model, 2)
+    solve_modal(model, 2, bearings="active")
+    assert seen == ["set-after-dead-load", "active"]
+    with pytest.raises(ModelError, match="parameter 'bearings'"):  # an error, not a warning
+        solve_modal(model, 2, bearings="frozen")
 
 
 # --- MAC ------------------------------------------------------------------------------------

@@ -70,9 +70,10 @@ def test_max_principal_stress_at_a_recovery_point_by_hand():
     top = stresses.points.index("top")  # y = 0, z = d / 2
     A, I2, J, r = np.pi * d**2 / 4, np.pi * d**4 / 64, np.pi * d**4 / 32, d / 2
     sigma = Fx / A + (-Fz * L) * r / I2  # N/A + My z / Iy
-    tau_xy = Fy / (0.9 * A) - Mx * r / J  # torsion at the top points along -y
-    tau_xz = Fz / (0.9 * A)
-    tau = np.hypot(tau_xy, tau_xz)
+    # the top lies on the centroidal chord for Vy (Q / (I b) = 4 / (3 A)) and on the extreme
+    # fibre for Vz (no shear); torsion T r / J points along -y there
+    tau_xy = 4 * Fy / (3 * A) - Mx * r / J
+    tau = abs(tau_xy)
     s1 = sigma / 2 + np.sqrt(sigma**2 / 4 + tau**2)
     assert stresses.sigma[top] == pytest.approx(sigma, rel=1e-9)
     assert stresses.tau[top] == pytest.approx(tau, rel=1e-9)
@@ -103,6 +104,65 @@ def test_principal_stress_of_pure_shear_and_uniaxial():
     assert principal_stress(0.0, 3.0) == pytest.approx(3.0)
     assert principal_stress(-4.0, 0.0) == pytest.approx(0.0)
     assert principal_stress(5.0, 0.0) == pytest.approx(5.0)
+    assert principal_stress(0.0, 0.0) == 0.0
+
+
+def test_principal_stress_keeps_its_precision_under_large_compression():
+    """sigma = -1e8 Pa with tau = 1 Pa: sigma_1 = tau^2 / |sigma| (1 + O(tau^2 / sigma^2)) = 1e-8 Pa."""
+    np.testing.assert_allclose(principal_stress(-1e8, 1.0), 1e-8, rtol=1e-12)
+    np.testing.assert_allclose(principal_stress([-1e8, 1e8], [1.0, 1.0]), [1e-8, 1e8 + 1e-8], rtol=1e-12)
+
+
+# Torsion of a rectangle long x short (Timoshenko & Goodier, table of sec. 109):
+# tau_max = T / (alpha long short^2) at the middle of the long sides; alpha = 0.208 (square),
+# 0.246 (2:1); at the middle of the short sides 0.795 tau_max for 2:1 (equal for a square);
+# zero at the corners.
+@pytest.mark.parametrize(
+    "b, h, alpha, short_ratio",
+    [(1.0, 1.0, 0.208, 1.0), (1.0, 2.0, 0.246, 0.795), (2.0, 1.0, 0.246, 0.795)],
+)
+def test_rectangle_torsion_stresses_at_the_default_points_by_hand(b, h, alpha, short_ratio):
+    section = Section.rectangle("r", b, h)
+    T = 1e3
+    s = section_stresses(np.array([0.0, 0.0, 0.0, T, 0.0, 0.0]), section)
+    tau = dict(zip(s.points, s.tau, strict=True))
+    long, short = max(b, h), min(b, h)
+    tau_max = T / (alpha * long * short**2)
+    on_long = ("left", "right") if h >= b else ("top", "bottom")
+    on_short = ("top", "bottom") if h >= b else ("left", "right")
+    for p in on_long:
+        assert tau[p] == pytest.approx(tau_max, rel=2e-3)
+    for p in on_short:
+        assert tau[p] == pytest.approx(short_ratio * tau_max, rel=2e-3)
+    for p in ("top-left", "top-right", "bottom-left", "bottom-right"):
+        assert tau[p] == 0.0
+
+
+@pytest.mark.parametrize("b, h", [(1.0, 1.0), (1.0, 2.0)])
+def test_rectangle_shear_stresses_at_the_default_points_by_hand(b, h):
+    """Q / (I b): 1.5 V / A on the centroidal chord, zero at the extreme fibres."""
+    section = Section.rectangle("r", b, h)
+    A, V = b * h, 6e4
+
+    def tau(forces):
+        s = section_stresses(np.array(forces, dtype=float), section)
+        return dict(zip(s.points, s.tau, strict=True))
+
+    vy, vz = tau([0, V, 0, 0, 0, 0]), tau([0, 0, V, 0, 0, 0])
+    for p in ("left", "right"):
+        assert vz[p] == pytest.approx(1.5 * V / A, rel=1e-12) and vy[p] == 0.0
+    for p in ("top", "bottom"):
+        assert vy[p] == pytest.approx(1.5 * V / A, rel=1e-12) and vz[p] == 0.0
+    for p in ("top-left", "top-right", "bottom-left", "bottom-right"):
+        assert vy[p] == 0.0 and vz[p] == 0.0
+
+
+def test_points_without_factors_keep_the_average_shear_and_t_r_over_j():
+    section = Section("s", A=0.2, Iy=0.01, Iz=0.02, J=0.03, Avy=0.1, Avz=0.15, points=(StressPoint("p", 0.3, 0.4),))
+    s = section_stresses(np.array([0.0, 2e3, 0.0, 6e2, 0.0, 0.0]), section)
+    r = 0.5
+    tau_T = 6e2 * r / 0.03
+    np.testing.assert_allclose(s.tau, [np.hypot(2e3 / 0.1 - tau_T * 0.4 / r, tau_T * 0.3 / r)], rtol=1e-12)
 
 
 def test_truss_axial_force():

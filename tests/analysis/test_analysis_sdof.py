@@ -81,12 +81,20 @@ def test_fixed_law_ties_instead_of_calling_respond():
     assert {("sliding", 0), ("sliding", 1)} <= ties and ("sliding", 2) not in ties  # vertical stays a spring
 
 
-def test_gravity_normal_forces_feed_the_modal_laws():
-    model = sdof_frame_model("regularized-coulomb", {"k": KS, "mu": 0.04})
-    pre = gravity(model)
+def test_gravity_normal_forces_feed_the_modal_laws(plugin_registry):
+    """A law whose initial tangent is c N: the lateral frequency follows the preload's N."""
+    c = KS / 3e6  # N of the sliding bearing is ~3.4 MN: K_s ~ 1.1 KS
+    model = sdof_frame_model("test-normal-spring", {"c": c})
+    pre = gravity(build_system(model, plugin_registry))
+    N = pre.normal_force("sliding")
+    assert pre.normal_forces.sum() == pytest.approx(SDOF_M * 9.81, rel=1e-9)
     res = solve_modal(pre.system, 2, preload=pre)
     np.testing.assert_allclose(res.normal_forces, pre.normal_forces)
-    assert pre.normal_forces.sum() == pytest.approx(SDOF_M * 9.81, rel=1e-9)
+    assert lateral_frequency(pre.system, preload=pre) == pytest.approx(f_b(c * N), rel=TOL)
+    # the automatic preload gives the same; a preload with twice the weight stiffens the law
+    assert lateral_frequency(pre.system) == pytest.approx(f_b(c * N), rel=TOL)
+    heavy = gravity(pre.system, g=2 * 9.81)
+    assert lateral_frequency(pre.system, preload=heavy) == pytest.approx(f_b(2 * c * N), rel=TOL)
 
 
 def test_a_plugin_law_without_parameters(plugin_registry):

@@ -4,12 +4,25 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from kernel_models import RECT, SDOF_KC, SDOF_M, STEEL, cantilever_model, deck_model, sdof_frame_model
+from attrs import evolve as attrs_evolve
+from kernel_models import (
+    CONCRETE,
+    GIRDER,
+    RECT,
+    SDOF_KC,
+    SDOF_M,
+    STEEL,
+    cantilever_model,
+    deck_model,
+    sdof_frame_model,
+)
 
-from bearingfw.analysis import gravity, solve_static
+from bearingfw.analysis import ConvergenceError, factorize, gravity, solve_static
 from bearingfw.model import (
+    Connector,
     FrameElement,
     Model,
+    ModelError,
     NodalLoad,
     Node,
     RigidLink,
@@ -164,7 +177,7 @@ def test_friction_limits_the_static_bearing_force():
     Ks, mu = 4.0e8, 0.05
     model = sdof_frame_model("regularized-coulomb", {"k": Ks, "mu": mu})
     H = 0.5 * SDOF_M * 9.81  # far beyond the friction capacity of the right bearing
-    res = gravity(model, loads=[NodalLoad("DL", fy=H)])
+    res = gravity(model, loads=[NodalLoad("DL", fy=H)], bearings="active")
     N = res.normal_force("sliding")
     assert N > 0
     assert rel(abs(res.connector_force("sliding")[1]), mu * N) < 1e-9
@@ -175,6 +188,7 @@ def test_friction_limits_the_static_bearing_force():
     assert rel(res.connector_force("pinned")[1] + res.connector_force("sliding")[1], H) < 1e-9
 
 
+@pytest.mark.parametrize("bearings", ["set-after-dead-load", "active"])
 @pytest.mark.parametrize(
     "law, params",
     [
@@ -184,10 +198,10 @@ def test_friction_limits_the_static_bearing_force():
         ("fixed", {}),
     ],
 )
-def test_gravity_reactions_sum_to_the_weight(law, params):
+def test_gravity_reactions_sum_to_the_weight(law, params, bearings):
     model = deck_model(law, params)
     g = 9.81
-    res = gravity(model, g=g)
+    res = gravity(model, g=g, bearings=bearings)
     mass = sum(
         (e.material.density * e.section.A + e.added_mass)
         * np.linalg.norm(model.coordinates[model.node_index(e.j)] - model.coordinates[model.node_index(e.i)])
@@ -219,6 +233,164 @@ def test_gravity_is_linear_in_g_for_linear_laws():
     assert np.allclose(b.normal_forces, 2 * a.normal_forces, rtol=1e-9)
 
 
-def test_zero_load_gives_zero_state():
-    res = solve_static(build_system(deck_model("regularized-coulomb", {"k": 4e8, "mu": 0.04})))
-    assert res.iterations == 0 and not np.any(res.u)
+def test_zero_load_gives_the_virgin_state_in_either_bearing_mode():
+    system = build_system(deck_model("regularized-coulomb", {"k": 4e8, "mu": 0.04}))
+    for res in (solve_static(system), gravity(system, g=0.0)):
+        assert res.iterations == 0 and not np.any(res.u)
+        assert not np.any(res.support_reactions) and not np.any(res.connector_forces)
+        assert not np.any(res.law_reference) and not np.any(res.law_forces)
+        for state in res.law_states:
+            assert not np.any(state["slip"])
+
+
+# --- mechanisms ---------------------------------------------------------------------------------
+def bent_beam_pinned_at_one_node():
+    """A bent member held by one pin: free to rotate rigidly about it (round-off leaves tiny pivots)."""
+    nodes = [Node(f"N{k}", 1.3 * k, 0.7 * k, 0.37 * k * k) for k in range(5)]
+    elements = [FrameElement(f"E{k}", f"N{k}", f"N{k + 1}", RECT, STEEL) for k in range(4)]
+    return Model(nodes, elements, supports=[Support("N0", ("ux", "uy", "uz"))])
+
+
+def test_a_near_singular_mechanism_is_reported_not_solved():
+    """Before: 'converged' to |u| ~ 2e9 m, because the residual was judged against |K| |q|."""
+    model = bent_beam_pinned_at_one_node()
+    with pytest.raises(ModelError, match=r"singular \(smallest LU pivot .* mechanism; the free motion moves most N4\."):
+        solve_static(model, [NodalLoad("N4", fz=-1e3)])
+    system = build_system(model)
+    with pytest.raises(ModelError, match="mechanism"):
+        factorize(system.K_free)
+    # the same structure pinned at a second node stands
+    held = Model(model.nodes, model.elements, supports=[Support("N0"), Support("N4", ("ux", "uy", "uz"))])
+    assert np.abs(solve_static(held, [NodalLoad("N2", fz=-1e3)]).u).max() < 1e-3
+
+
+def simply_supported_girder(law, params, with_fork=True):
+    """One girder on two PLANAR bearings at the soffit (rigid offsets), a torsional fork at one end.
+
+    Under self-weight the end rotations move the soffits apart by the offset times the rotation:
+    about 1.2 mm each way, far beyond the stick limit of friction (mu N / k ~ 0.05 mm).
+    """
+    n, span = 8, 20.0
+    nodes = [Node(f"G{k}", span * k / n, 0.0, 0.0) for k in range(n + 1)]
+    elements = [FrameElement(f"E{k}", f"G{k}", f"G{k + 1}", GIRDER, CONCRETE, added_mass=1500.0) for k in range(n)]
+    links, connectors, supports = [], [], []
+    for k in (0, n):
+        nodes += [Node(f"S{k}", span * k / n, 0.0, -0.8), Node(f"P{k}", span * k / n, 0.0, -0.8)]
+        links.append(RigidLink(f"L{k}", f"G{k}", f"S{k}"))
+        supports.append(Support(f"P{k}"))
+        connectors.append(
+            Connector(f"C{k}", f"P{k}", f"S{k}", "planar", law=law, law_params=params, vertical_stiffness=5e9)
+        )
+    if with_fork:
+        supports.append(Support("G0", ("rx",)))
+    return Model(nodes, elements, connectors, links, supports)
+
+
+FRICTION = ("regularized-coulomb", {"k": 4e8, "mu": 0.04})
+
+
+def test_bearings_set_after_the_dead_load_start_virgin_at_the_dead_load_position():
+    model = simply_supported_girder(*FRICTION)
+    res = gravity(model)
+    assert res.bearings == "set-after-dead-load"
+    weight = -res.load[2::6].sum()  # the load acts down (-z)
+    # the laws carry nothing, keep their virgin states and see zero displacement
+    assert not np.any(res.law_forces) and not np.any(res.connector_forces[:, :2])
+    assert not np.any(res.law_states[0]["slip"])
+    np.testing.assert_allclose(res.law_displacements, 0.0, atol=1e-18)
+    # law_reference is the dead-load movement: the soffits (0.8 m below the axis) move apart by
+    # the end rotation times the offset, u_x = (theta x r)_x = -0.8 theta_y
+    ops = res.system.connectors
+    np.testing.assert_allclose(res.law_reference, ops.B @ res.u, rtol=0, atol=1e-18)
+    theta = res.displacement("G0", "ry")
+    np.testing.assert_allclose(res.law_reference.reshape(2, 2)[:, 0], [-0.8 * theta, 0.8 * theta], rtol=1e-9)
+    assert abs(theta) * 0.8 > 10 * 0.04 * res.normal_forces[0] / 4e8  # far beyond the stick limit
+    np.testing.assert_allclose(res.normal_forces, [weight / 2] * 2, rtol=1e-9)
+    # a law evaluated relative to the reference: stick, zero force, the initial tangent
+    (response,) = ops.respond(res.law_states, ops.B @ res.u, ops.normal_forces(ops.V @ res.u), 1.0, res.law_reference)
+    np.testing.assert_allclose(response.force, 0.0, atol=1e-9)
+    np.testing.assert_allclose(response.tangent, np.broadcast_to(4e8 * np.eye(2), (2, 2, 2)))
+
+
+def test_active_friction_bearings_that_slip_under_dead_load_get_their_own_message():
+    """Both bearings slide apart: nothing fixes the girder's longitudinal position. Not a mechanism."""
+    model = simply_supported_girder(*FRICTION)
+    with pytest.raises(ConvergenceError, match=r"the bearings 'C0', 'C8' slip .* not a mechanism"):
+        gravity(model, bearings="active")
+    # with springs instead the same structure stands, its bearings pulled apart by the dead load
+    res = gravity(simply_supported_girder("linear-spring", {"k": 4e8}), bearings="active")
+    weight = -res.load[2::6].sum()
+    np.testing.assert_allclose(res.law_forces.reshape(2, 2)[:, 0].sum(), 0.0, atol=1e-9 * weight)
+    assert np.abs(res.law_forces).max() > 1e5
+
+
+def test_frictionless_bearings_without_other_restraint_are_a_mechanism_in_both_modes():
+    model = simply_supported_girder("frictionless", {})
+    for mode in ("set-after-dead-load", "active"):
+        with pytest.raises(ModelError, match=r"mechanism; the free motion moves most G\d\.u[xy]"):
+            gravity(model, bearings=mode)
+
+
+def test_a_load_along_a_direction_only_the_bearings_hold_needs_active_bearings():
+    model = simply_supported_girder("linear-spring", {"k": 4e8})
+    with pytest.raises(ModelError, match="pushes along motions that only the bearings restrain"):
+        gravity(model, loads=[NodalLoad("G4", fx=1e3)])
+    res = gravity(model, loads=[NodalLoad("G4", fx=1e3)], bearings="active")
+    assert res.law_forces.reshape(2, 2)[:, 0].sum() == pytest.approx(1e3, rel=1e-9)
+
+
+def test_set_after_dead_load_matches_active_for_linear_springs_but_with_zero_bearing_force():
+    """Same vertical equilibrium (N), but active springs take the end movements, set ones do not."""
+    model = deck_model("linear-spring", {"k": 4e8})
+    active = gravity(model, bearings="active")
+    set_ = gravity(active.system)
+    np.testing.assert_allclose(set_.normal_forces.sum(), active.normal_forces.sum(), rtol=1e-12)
+    assert np.abs(active.law_forces).max() > 1e3 and not np.any(set_.law_forces)
+    np.testing.assert_allclose(active.law_reference, 0.0)
+    np.testing.assert_allclose(active.law_displacements, active.system.connectors.B @ active.u)
+
+
+def test_unknown_bearing_mode_is_named():
+    with pytest.raises(ModelError, match=r"parameter 'bearings' must be one of 'set-after-dead-load', 'active'"):
+        gravity(cantilever_model(n=2), bearings="frozen")
+
+
+# --- connector frames and the sign of N ---------------------------------------------------------
+def test_join_and_spring_normal_forces_are_compressive_and_balance_the_deck():
+    res = gravity(sdof_frame_model("linear-spring", {"k": 4e8}))
+    N = {c.name: res.normal_force(c.name) for c in res.system.model.connectors}
+    assert N["pinned"] > 0 and N["sliding"] > 0  # JOIN from the tie multiplier, PLANAR from the spring
+    assert N["pinned"] + N["sliding"] == pytest.approx(SDOF_M * 9.81, rel=1e-9)
+
+
+@pytest.mark.parametrize("angle", [0.3, 2.0])
+def test_normal_force_does_not_depend_on_the_connector_frame_about_the_vertical(angle):
+    base = sdof_frame_model("regularized-coulomb", {"k": 4e8, "mu": 0.04})
+    x_axis = (np.cos(angle), np.sin(angle), 0.0)
+    turned = Model(
+        base.nodes,
+        base.elements,
+        [attrs_evolve(c, x_axis=x_axis) for c in base.connectors],
+        base.rigid_links,
+        base.supports,
+        base.masses,
+    )
+    np.testing.assert_allclose(gravity(turned).normal_forces, gravity(base).normal_forces, rtol=1e-9)
+
+
+def test_a_tilted_bearing_frame_reads_n_along_its_own_z():
+    """A PLANAR bearing whose z axis leans by a: N = (vertical reaction) cos a, horizontal part sin a."""
+    a = 0.1
+    base = sdof_frame_model("linear-spring", {"k": 4e8})
+    tilted = [
+        attrs_evolve(c, x_axis=(1.0, 0.0, 0.0), z_axis=(0.0, np.sin(a), np.cos(a))) if c.name == "sliding" else c
+        for c in base.connectors
+    ]
+    model = Model(base.nodes, base.elements, tilted, base.rigid_links, base.supports, base.masses)
+    res = gravity(model)
+    con = model.connector("sliding")
+    on_deck = -(con.rotation.T @ res.connector_force("sliding"))  # global force on the girder side
+    assert res.normal_force("sliding") > 0
+    assert res.normal_force("sliding") == pytest.approx(on_deck[2] * np.cos(a) + on_deck[1] * np.sin(a), rel=1e-9)
+    total = sum(-(c.rotation.T @ res.connector_force(c.name)) for c in model.connectors)
+    np.testing.assert_allclose(total, [0.0, 0.0, SDOF_M * 9.81], atol=1e-9 * SDOF_M * 9.81)

@@ -11,6 +11,7 @@ from hypothesis.extra.numpy import arrays
 from bearingfw.model import Connector, Model, ModelError, Node, axes_from_rotation, build_system, connector_frame
 
 unit = st.tuples(*[st.floats(-1, 1)] * 3).filter(lambda v: np.linalg.norm(v) > 0.2)
+up = unit.map(lambda v: (v[0], v[1], abs(v[2]) + 0.1))  # a connector's z axis points up
 
 
 def bearings(specs):
@@ -24,7 +25,7 @@ def bearings(specs):
 
 @settings(max_examples=40, deadline=None)
 @given(
-    x_axis=unit, z_axis=unit, guided=st.sampled_from(["x", "y"]), u=arrays(np.float64, 24, elements=st.floats(-1, 1))
+    x_axis=unit, z_axis=up, guided=st.sampled_from(["x", "y"]), u=arrays(np.float64, 24, elements=st.floats(-1, 1))
 )
 def test_operators_give_relative_displacements_in_the_local_frame(x_axis, z_axis, guided, u):
     if abs(np.dot(x_axis, z_axis)) > 0.95 * np.linalg.norm(x_axis) * np.linalg.norm(z_axis):

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from bearingfw import ParameterError
 from bearingfw.model import (
     Connector,
+    DofMap,
     FrameElement,
     Material,
     Model,
@@ -62,6 +64,20 @@ def two_nodes(z=0.0):
             r"'law_params' must not set 'dims'",
         ),
         (lambda: RigidLink("r", "a", "a"), r"RigidLink 'r': fields 'master' and 'slave'"),
+        (
+            lambda: Connector("3B", "a", "b", "join", z_axis=(0, 0, -1)),
+            r"connector '3B': field 'z_axis' \(0.0, 0.0, -1.0\) must point up",
+        ),
+        (
+            lambda: Connector("3B", "a", "b", "planar", law="x", vertical_stiffness=1e9, z_axis=(1, 0, -1e-3)),
+            r"connector '3B': field 'z_axis' .* must point up",
+        ),
+        (lambda: Connector("3B", "a", "b", "join", x_axis=(0, 0, 1), z_axis=(1, 0, 0)), r"field 'z_axis' .* point up"),
+        (
+            lambda: Connector("3B", "a", "b", "planar", law="x", vertical_stiffness=1e9, guided="x"),
+            r"connector '3B': field 'guided' applies to AXIAL connectors only",
+        ),
+        (lambda: Connector("3B", "a", "b", "join", guided="y"), r"connector '3B': field 'guided' applies to AXIAL"),
     ],
 )
 def test_bad_fields_are_named(make, message):
@@ -100,6 +116,34 @@ def test_connector_nodes_must_coincide_and_elements_have_length():
         Model(two_nodes(0.0), elements=[FrameElement("e", "a", "b", SEC, STEEL)])
     with pytest.raises(ModelError, match=r"duplicate|two entries named 'a'"):
         Model([Node("a", 0, 0, 0), Node("a", 1, 0, 0)])
+
+
+def test_axial_connectors_are_guided_along_x_by_default_and_tilted_frames_are_accepted():
+    axial = Connector("1A", "a", "b", "axial", law="x", vertical_stiffness=1e9)
+    assert axial.guided == "x" and axial.law_directions == (0,) and axial.tied_directions == (1,)
+    assert Connector("1B", "a", "b", "planar", law="x", vertical_stiffness=1e9).guided is None
+    tilted = Connector("1C", "a", "b", "planar", law="x", vertical_stiffness=1e9, z_axis=(0.05, 0, 1))
+    assert tilted.rotation[2, 2] > 0.99
+
+
+def test_a_member_with_an_orientation_along_its_axis_is_named():
+    model = Model(
+        [Node("a", 0, 0, 0), Node("b", 1, 0, 0)],
+        [FrameElement("beam7", "a", "b", SEC, STEEL, orientation=(2, 0, 0))],
+        supports=[Support("a")],
+    )
+    with pytest.raises(ModelError, match=r"FrameElement 'beam7': field 'orientation' \(2.0, 0.0, 0.0\) is parallel"):
+        build_system(model)
+
+
+def test_node_names_are_indexed_once_by_the_dof_map():
+    model = Model(two_nodes(1.0))
+    assert model.dofmap.node_names == ("a", "b") and model.node_index("b") == 1
+    np.testing.assert_array_equal(model.dofmap.node_dofs(["b", "a"]), [np.arange(6, 12), np.arange(6)])
+    with pytest.raises(ModelError, match=r"Model: no node named 'c'"):
+        model.node("c")
+    with pytest.raises(ModelError, match=r"DofMap: field 'node_names' repeats 'a'"):
+        DofMap(("a", "b", "a"))
 
 
 def test_unknown_law_and_bad_law_parameter_name_the_connector_and_field():

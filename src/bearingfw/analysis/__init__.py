@@ -14,6 +14,7 @@ from bearingfw.analysis.modal import (
     initial_tangent,
     label_modes,
     mac,
+    movable_mass,
     participation,
     solve_modal,
 )
@@ -27,6 +28,7 @@ from bearingfw.analysis.results import (
     section_stresses,
 )
 from bearingfw.analysis.static import (
+    BEARINGS,
     ConvergenceError,
     StaticResult,
     factorize,
@@ -36,6 +38,7 @@ from bearingfw.analysis.static import (
 )
 
 __all__ = [
+    "BEARINGS",
     "DEFAULT_SHIFT",
     "LABELS",
     "ConvergenceError",
@@ -53,6 +56,7 @@ __all__ = [
     "initial_tangent",
     "label_modes",
     "mac",
+    "movable_mass",
     "solve_modal",
     "participation",
     "principal_stress",

@@ -1,7 +1,8 @@
 """Modal analysis: the paper's step-1 linearisation, participation, automatic labels and MAC.
 
 Linearisation: each connector enters with its law's *initial* tangent,
-``respond(initial_state(n), zeros, N, dt).tangent`` with ``N`` from the gravity preload; so a
+``respond(initial_state(n), zeros, N, dt).tangent`` with ``N`` from the gravity preload (by
+default with the bearings set after the dead load, where the laws' displacement is zero); so a
 frictionless law leaves the direction free, a linear spring adds ``k``, regularized Coulomb its
 stick stiffness ``k``, and a rigid law is already a tie in ``T``. The eigenproblem
 ``K_t phi = omega^2 M phi`` on the free DOFs is solved for the lowest modes by shift-invert
@@ -13,9 +14,14 @@ Shapes are mass-normalised (``phi^T M phi = 1``), expanded to full DOFs (``T phi
 so that their largest component is positive.
 
 Participation (uniform support excitation in direction ``d``, rigid-body vector ``r_d``):
-``Gamma = phi^T M r_d`` and effective modal mass ``Gamma^2``; summed over all modes it gives
-``r_d^T M T (T^T M T)^{-1} T^T M r_d``, the mass that can move (with a lumped mass: the total
-mass minus the mass sitting on supported DOFs).
+``Gamma = phi^T M r_d`` and effective modal mass ``Gamma^2``; summed over all modes it gives the
+*movable mass* ``r_d^T M T (T^T M T)^+ T^T M r_d`` (pseudo-inverse: DOFs without mass carry
+none), the mass that can move: less than the total ``r_d^T M r_d`` by what the supports hold
+(with a lumped mass exactly the mass on supported DOFs). Effective mass ratios are taken
+against it (:attr:`ModalResult.mass_ratios`), so that all modes give 1.
+
+Errors: :func:`eigen` raises :class:`~bearingfw.model.ModelError` (a ``ValueError``) for a bad
+request (shift, method, more modes than DOFs with mass) and for a matrix it cannot factorise.
 
 Labels, from the modal kinetic energy ``p = phi * (M phi)`` (elementwise, sums to 1):
 
@@ -31,6 +37,7 @@ girders of a deck moving in opposition read as torsion. The label is the largest
 
 from __future__ import annotations
 
+import functools
 import warnings
 from collections.abc import Sequence
 
@@ -41,8 +48,9 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.spatial import cKDTree
 
-from bearingfw.analysis.static import StaticResult, gravity
-from bearingfw.model import DIRECTIONS, ModelError, System, as_system
+from bearingfw.analysis.static import BEARINGS, ConvergenceError, StaticResult, gravity, initial_tangent
+from bearingfw.model import COMPONENTS, DIRECTIONS, ModelError, System, as_system
+from bearingfw.model.dofs import NDOF_NODE
 from bearingfw.plugins import Registry
 
 __all__ = [
@@ -51,6 +59,7 @@ __all__ = [
     "eigen",
     "initial_tangent",
     "participation",
+    "movable_mass",
     "energy_shares",
     "label_modes",
     "mac",
@@ -64,18 +73,27 @@ LABELS = ("vertical", "lateral", "longitudinal", "torsional")
 DEFAULT_SHIFT = -1.0
 #: Systems up to this many free DOFs are solved densely by ``method="auto"``.
 DENSE_LIMIT = 100
+#: ``nu = 1 / (lambda - shift)`` below this fraction of the largest means an infinite eigenvalue (a
+#: direction without mass). LAPACK resolves a zero ``nu`` to round-off; ARPACK's Ritz values of a
+#: zero ``nu`` stay at ~1e-11 of the largest, so the sparse test is looser (still ~3e4 times the
+#: lowest frequency, far beyond any mode a sparse solve is asked for).
+_INFINITE = {"dense": 1e-12, "sparse": 1e-9}
 
 
 def eigen(K, M, n_modes: int, *, shift: float = DEFAULT_SHIFT, method: str = "auto") -> tuple[np.ndarray, np.ndarray]:
-    """Lowest ``n_modes`` eigenpairs of ``K phi = lambda M phi``: (lambda ascending, M-normalised phi)."""
+    """Lowest ``n_modes`` eigenpairs of ``K phi = lambda M phi``: (lambda ascending, M-normalised phi).
+
+    Raises :class:`~bearingfw.model.ModelError` (a ``ValueError``) for a bad request and when
+    ``K - shift M`` cannot be factorised.
+    """
     n = K.shape[0]
     if shift >= 0:
-        raise ValueError(f"eigen: shift must be negative, got {shift!r}")
+        raise ModelError(f"eigen: shift must be negative, got {shift!r}")
     if method not in ("auto", "dense", "sparse"):
-        raise ValueError(f"eigen: method must be 'auto', 'dense' or 'sparse', got {method!r}")
+        raise ModelError(f"eigen: method must be 'auto', 'dense' or 'sparse', got {method!r}")
     massive = int(np.count_nonzero(np.abs(M.diagonal()) > 0))
     if not 1 <= n_modes <= massive:
-        raise ValueError(f"asked for {n_modes} modes; the model has {massive} DOFs with mass (at most that many modes)")
+        raise ModelError(f"asked for {n_modes} modes; the model has {massive} DOFs with mass (at most that many modes)")
     dense = method == "dense" or (method == "auto" and (n <= DENSE_LIMIT or n_modes >= n - 1))
     if dense:
         Kd, Md = (np.asarray(A.todense()) if sp.issparse(A) else np.asarray(A) for A in (K, M))
@@ -85,43 +103,30 @@ def eigen(K, M, n_modes: int, *, shift: float = DEFAULT_SHIFT, method: str = "au
             raise ModelError(f"K - shift*M is not positive definite ({exc}): a mechanism without mass?") from exc
         order = np.argsort(nu)[::-1][:n_modes]
         nu, vec = nu[order], vec[:, order]
-        if np.any(nu <= 1e-12 * nu[0]):
-            raise ValueError(
-                f"asked for {n_modes} modes; the model has only {int(np.sum(nu > 1e-12 * nu[0]))} with mass"
-            )
-        lam = shift + 1.0 / nu
+        infinite = _INFINITE["dense"]
     else:
         v0 = np.ones(n)  # deterministic start vector
         try:
             lam, vec = spla.eigsh(K.tocsc(), k=n_modes, M=M.tocsc(), sigma=shift, which="LM", v0=v0)
         except RuntimeError as exc:
             raise ModelError(f"shift-invert factorisation failed ({exc}): a mechanism without mass?") from exc
-        order = np.argsort(lam)
-        lam, vec = lam[order], vec[:, order]
+        nu = 1.0 / (lam - shift)  # a spurious Ritz value may come out below the shift: nu < 0
+        order = np.argsort(nu)[::-1]
+        nu, vec = nu[order], vec[:, order]
+        infinite = _INFINITE["sparse"]
+    # An infinite eigenvalue (a direction without mass) has nu = 0.
+    finite = nu > infinite * nu[0]
+    if not np.all(finite):
+        raise ModelError(f"asked for {n_modes} modes; the model has only {int(np.sum(finite))} with mass")
+    lam = shift + 1.0 / nu
     vec = vec / np.sqrt(np.einsum("ij,ij->j", vec, M @ vec))
     biggest = np.argmax(np.abs(vec), axis=0)
     vec = vec * np.sign(vec[biggest, np.arange(vec.shape[1])])
     return lam, vec
 
 
-def initial_tangent(system: System, normal_forces: np.ndarray | None = None, dt: float = 1.0):
-    """``K_free + B_free^T K_t B_free`` with every law's initial tangent (symmetrised).
-
-    ``normal_forces`` per connector (default zero) are passed to the laws.
-    """
-    ops = system.connectors
-    if not ops.groups:
-        return system.K_free
-    N = np.zeros(ops.n_connectors) if normal_forces is None else np.asarray(normal_forces, dtype=float)
-    zero = np.zeros(ops.n_governed)
-    responses = ops.respond(ops.initial_states(), zero, N[ops.spring_connectors], dt)
-    Kt = ops.tangent(responses)
-    Kt = (Kt + Kt.T) / 2
-    return (system.K_free + system.B_free.T @ Kt @ system.B_free).tocsr()
-
-
 def participation(system: System, shapes: np.ndarray, directions: Sequence[str] = DIRECTIONS, about=(0.0, 0.0, 0.0)):
-    """Participation factors, effective masses (per mode) and total masses per direction."""
+    """Participation factors, effective masses (per mode) and total masses ``r^T M r`` per direction."""
     gamma, meff, total = {}, {}, {}
     for d in directions:
         Mr = system.M @ system.rigid_body(d, about)
@@ -129,6 +134,32 @@ def participation(system: System, shapes: np.ndarray, directions: Sequence[str] 
         meff[d] = gamma[d] ** 2
         total[d] = float(system.rigid_body(d, about) @ Mr)
     return gamma, meff, total
+
+
+def movable_mass(system: System, directions: Sequence[str] = DIRECTIONS, about=(0.0, 0.0, 0.0)) -> dict[str, float]:
+    """``b^T M_free^+ b`` with ``b = T^T M r`` per direction: the sum of the effective masses of all modes.
+
+    ``b = T^T M^(1/2) (M^(1/2) r)`` lies in the range of ``T^T M^(1/2)``, which is the range of
+    ``M_free = T^T M T``: the pseudo-inverse is well defined even where ``M_free`` is singular (lumped mass without
+    rotary inertia, an offset mass): it is applied by a slightly regularised factorisation,
+    ``x <- x + (M_free + eps I)^{-1} (b - M_free x)``, which converges on the range of ``M_free``
+    (by ``eps / (eps + m)`` per step) and adds nothing along its null space (``b`` has no part
+    there).
+    """
+    M_free = system.M_free.tocsc()
+    b = np.column_stack([system.reduce(system.M @ system.rigid_body(d, about)) for d in directions])
+    scale = float(abs(M_free.diagonal()).max(initial=0.0))
+    if scale == 0.0:
+        return dict.fromkeys(directions, 0.0)
+    lu = spla.splu((M_free + 1e-10 * scale * sp.eye(M_free.shape[0])).tocsc())
+    x = np.zeros_like(b)
+    total = np.zeros(len(directions))
+    for _ in range(50):
+        x = x + lu.solve(b - M_free @ x)
+        previous, total = total, np.einsum("ij,ij->j", b, x)
+        if np.all(np.abs(total - previous) <= 1e-14 * np.abs(total)):
+            break
+    return {d: float(t) for d, t in zip(directions, total, strict=True)}
 
 
 def _mirror_partners(coords: np.ndarray, axis_y: float) -> np.ndarray:
@@ -145,13 +176,14 @@ def energy_shares(system: System, shapes: np.ndarray, axis_y: float | None = Non
     """Kinetic-energy shares per label (module docstring), each (n_modes,), summing to 1."""
     Mphi = system.M @ shapes
     p = shapes * Mphi
-    comp = {c: p[k::6].sum(axis=0) for k, c in enumerate(("ux", "uy", "uz", "rx", "ry", "rz"))}
+    comp = {c: p[k::NDOF_NODE].sum(axis=0) for k, c in enumerate(COMPONENTS)}
+    uy, uz = COMPONENTS.index("uy"), COMPONENTS.index("uz")
     coords = system.model.coordinates
     if axis_y is None:
-        w = (system.M @ system.rigid_body("y"))[1::6]
+        w = (system.M @ system.rigid_body("y"))[uy::NDOF_NODE]
         axis_y = float(w @ coords[:, 1] / w.sum()) if w.sum() > 0 else float(coords[:, 1].mean())
     partner = _mirror_partners(coords, axis_y)
-    wz, Mwz = shapes[2::6], Mphi[2::6]
+    wz, Mwz = shapes[uz::NDOF_NODE], Mphi[uz::NDOF_NODE]
     anti = ((wz - wz[partner]) / 2 * Mwz).sum(axis=0)
     shares = {
         "vertical": comp["uz"] - anti + comp["ry"],
@@ -201,7 +233,10 @@ class ModalResult:
 
     ``shapes`` (n_dof, n_modes) in full DOFs, mass-normalised. ``participation``,
     ``effective_mass`` map a direction (``x, y, z, rx, ry, rz``) to per-mode arrays;
-    ``total_mass`` to ``r^T M r``. ``shares`` maps each label to per-mode energy shares.
+    ``total_mass`` to ``r^T M r`` (all the mass, supported DOFs included); ``movable_mass`` to
+    the mass that can move, the sum of the effective masses of all modes (module docstring).
+    ``shares`` maps each label to per-mode energy shares. ``normal_forces`` are the connectors'
+    ``N`` the laws were linearised at; ``about`` the reference point of rotational participation.
     """
 
     system: System
@@ -213,6 +248,18 @@ class ModalResult:
     shares: dict[str, np.ndarray]
     labels: tuple[str, ...]
     normal_forces: np.ndarray
+    about: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+    @functools.cached_property
+    def movable_mass(self) -> dict[str, float]:
+        """:func:`movable_mass` per direction (computed on first use: it factorises ``M_free``)."""
+        return movable_mass(self.system, tuple(self.effective_mass), self.about)
+
+    @property
+    def mass_ratios(self) -> dict[str, np.ndarray]:
+        """Effective mass over movable mass per direction and mode (all modes sum to 1)."""
+        movable = self.movable_mass
+        return {d: m / movable[d] if movable[d] > 0 else np.zeros_like(m) for d, m in self.effective_mass.items()}
 
     @property
     def n_modes(self) -> int:
@@ -267,24 +314,34 @@ def solve_modal(
     method: str = "auto",
     about=(0.0, 0.0, 0.0),
     axis_y: float | None = None,
+    bearings: str = "set-after-dead-load",
 ) -> ModalResult:
     """The lowest ``n_modes`` modes with every connector at its law's initial tangent.
 
-    The laws' normal forces come from ``preload`` (default: a gravity preload with ``g``, run
-    only when some law is present). ``about`` is the reference point of rotational
+    The laws' normal forces come from ``preload`` (default: :func:`gravity` with ``g`` and
+    ``bearings``, run only when some law is present). If that automatic preload fails, a
+    mechanism in statics (:class:`~bearingfw.model.ModelError`, e.g. frictionless bearings
+    without other horizontal restraint, which the modes show as zero frequencies) or no
+    convergence (:class:`ConvergenceError`), the analysis goes on with a warning and the laws
+    get ``N = 0`` for their initial tangent (which for the built-in laws does not depend on
+    ``N``); pass a ``preload`` to control it. ``about`` is the reference point of rotational
     participation, ``axis_y`` the deck axis used for the torsion label.
     """
     system = as_system(model_or_system, registry)
+    if bearings not in BEARINGS:  # checked here: a failing automatic preload only warns
+        raise ModelError(f"solve_modal: parameter 'bearings' must be one of {', '.join(map(repr, BEARINGS))}")
     ops = system.connectors
     N = np.zeros(ops.n_connectors)
     if preload is not None:
         N = preload.normal_forces
     elif ops.groups:
         try:
-            N = gravity(system, g=g, dt=dt).normal_forces
-        except ModelError as exc:
+            N = gravity(system, g=g, dt=dt, bearings=bearings).normal_forces
+        except (ModelError, ConvergenceError) as exc:
             warnings.warn(
-                f"modal: gravity preload failed ({exc}); laws get N = 0 for their initial tangent", stacklevel=2
+                f"modal: gravity preload failed ({type(exc).__name__}: {exc}); laws get N = 0 for their initial "
+                "tangent",
+                stacklevel=2,
             )
     Kt = initial_tangent(system, N, dt)
     lam, phi = eigen(Kt, system.M_free, n_modes, shift=shift, method=method)
@@ -301,4 +358,5 @@ def solve_modal(
         shares=shares,
         labels=label_modes(shares),
         normal_forces=np.asarray(N, dtype=float),
+        about=tuple(float(a) for a in about),
     )

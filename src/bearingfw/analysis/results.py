@@ -14,16 +14,18 @@ share of the gravity load, so that a member carrying its own weight is right) th
 end i is ``-F[0:6]`` and at end j ``+F[6:12]``. Member inertia within the element is not
 included (only end values are recovered).
 
-Stresses at a recovery point ``(y, z)`` of the section::
+Stresses at a recovery point ``(y, z)`` of the section (:class:`~bearingfw.model.StressPoint`)::
 
     sigma = N / A + My z / Iy - Mz y / Iz
-    tau_xy = Vy / Avy - tau_T * z / r,   tau_xz = Vz / Avz + tau_T * y / r,   tau = |(tau_xy, tau_xz)|
+    tau_xy = s_y Vy - tau_T * z / r,   tau_xz = s_z Vz + tau_T * y / r,   tau = |(tau_xy, tau_xz)|
     sigma_1 = sigma / 2 + sqrt((sigma / 2)^2 + tau^2)      (maximum principal stress)
 
-with ``tau_T = T r / J`` or ``torsion_factor * T`` (``r`` the distance from the centroid;
-torsional shear perpendicular to the radius); the average shear ``V / Av`` uses the area ``A``
-when the section gives no shear area. At the centroid a given ``torsion_factor`` adds
-``|tau_T|`` to ``tau``.
+with the point's factors where given: ``tau_T = torsion_factor * T`` (else ``T r / J``, exact for
+circles only), ``s_y = shear_factor_y`` and ``s_z = shear_factor_z`` (else the average ``1 / Avy``,
+``1 / Avz``, or ``1 / A`` without shear areas). ``r`` is the distance from the centroid; the
+torsional shear acts perpendicular to the radius; at the centroid a given ``torsion_factor``
+adds ``|tau_T|`` to ``tau``. The default points of ``Section.rectangle`` and ``Section.circle``
+carry their factors (e.g. zero shear at a rectangle's corners).
 """
 
 from __future__ import annotations
@@ -109,9 +111,24 @@ class Stresses:
 
 
 def principal_stress(sigma, tau):
-    """Maximum principal stress of a plane state with normal ``sigma`` and shear ``tau``."""
-    sigma = np.asarray(sigma, dtype=float)
-    return sigma / 2 + np.sqrt((sigma / 2) ** 2 + np.asarray(tau, dtype=float) ** 2)
+    """Maximum principal stress of a plane state with normal ``sigma`` and shear ``tau``.
+
+    ``sigma / 2 + sqrt((sigma / 2)^2 + tau^2)``; for ``sigma < 0`` the equal form
+    ``tau^2 / (sqrt((sigma / 2)^2 + tau^2) - sigma / 2)``, which does not cancel (a large
+    compression with a little shear gives a small positive stress, not round-off).
+    """
+    half = np.asarray(sigma, dtype=float) / 2
+    tau = np.asarray(tau, dtype=float)
+    radius = np.hypot(half, tau)
+    below = radius - half  # > 0 where half < 0 (both terms add), so the division is safe there
+    safe = np.where(half < 0, below, 1.0)
+    return np.where(half < 0, tau**2 / safe, half + radius)
+
+
+def _point_factor(points, field: str, default: np.ndarray) -> np.ndarray:
+    """A per-point factor of the section's recovery points, ``default`` where a point gives none."""
+    given = np.array([np.nan if getattr(p, field) is None else getattr(p, field) for p in points])
+    return np.where(np.isnan(given), default, given)
 
 
 def section_stresses(forces: np.ndarray, section: Section) -> Stresses:
@@ -120,20 +137,19 @@ def section_stresses(forces: np.ndarray, section: Section) -> Stresses:
         raise ModelError(f"section {section.name!r} has no recovery points")
     f = np.asarray(forces, dtype=float)[..., None, :]
     N, Vy, Vz, T, My, Mz = (f[..., k] for k in range(6))
-    y = np.array([p.y for p in section.points])
-    z = np.array([p.z for p in section.points])
+    points = section.points
+    y = np.array([p.y for p in points])
+    z = np.array([p.z for p in points])
     r = np.hypot(y, z)
-    factor = np.array([np.nan if p.torsion_factor is None else p.torsion_factor for p in section.points])
-    per_torque = np.where(np.isnan(factor), r / section.J, factor)
-    tau_T = per_torque * T
+    tau_T = _point_factor(points, "torsion_factor", r / section.J) * T
+    s_y = _point_factor(points, "shear_factor_y", 1.0 / (section.Avy if section.Avy is not None else section.A))
+    s_z = _point_factor(points, "shear_factor_z", 1.0 / (section.Avz if section.Avz is not None else section.A))
     safe_r = np.where(r > 0, r, 1.0)
-    avy = section.Avy if section.Avy is not None else section.A
-    avz = section.Avz if section.Avz is not None else section.A
-    tau_xy = Vy / avy - np.where(r > 0, tau_T * z / safe_r, 0.0)
-    tau_xz = Vz / avz + np.where(r > 0, tau_T * y / safe_r, 0.0)
+    tau_xy = s_y * Vy - np.where(r > 0, tau_T * z / safe_r, 0.0)
+    tau_xz = s_z * Vz + np.where(r > 0, tau_T * y / safe_r, 0.0)
     tau = np.hypot(tau_xy, tau_xz) + np.where(r > 0, 0.0, np.abs(tau_T))
     sigma = N / section.A + My * z / section.Iy - Mz * y / section.Iz
-    return Stresses(tuple(p.name for p in section.points), sigma, tau, principal_stress(sigma, tau))
+    return Stresses(tuple(p.name for p in points), sigma, tau, principal_stress(sigma, tau))
 
 
 def element_stresses(

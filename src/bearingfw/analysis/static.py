@@ -2,48 +2,168 @@
 
 Equilibrium on the free DOFs ``q`` (``u = T q``)::
 
-    R(q) = K_free q + B_free^T f_law(B u, N(u)) - T^T f = 0
+    R(q) = K_free q + B_free^T f_law(B u - d_ref, N(u)) - T^T f = 0
 
-solved by Newton with the laws' consistent tangents (one load step from the laws' virgin
-state, so a linear law converges in one iteration). ``N = -kv V u`` is the compressive normal
-force of each spring-supported connector; within an iteration it is taken from the current
-iterate (its derivative is not part of the tangent).
+``N = -kv V u`` is the compressive normal force of each spring-supported connector and
+``d_ref`` (:attr:`StaticResult.law_reference`) the governed relative displacement at which the
+laws' displacement is zero. How the bearings take part is the option ``bearings``:
+
+- ``"active"`` (default of :func:`solve_static`): the laws act from their virgin state at the
+  undeformed geometry (``d_ref = 0``). Newton with the laws' consistent tangents, one load step
+  (a linear law converges in one iteration); within an iteration ``N`` is taken from the current
+  iterate (its derivative is not part of the tangent). Under gravity a friction bearing whose
+  girder end moves (rotation times the soffit offset, shortening) may slip already.
+- ``"set-after-dead-load"`` (default of :func:`gravity`): the bearings are installed in the
+  dead-load position, as usual in practice (preset so that the dead-load movements are
+  accommodated). The load is carried with the law-governed directions free (zero force):
+  ``K_free q = T^T f``; ``N`` comes from the vertical springs; the laws keep their virgin states
+  (zero slip, zero force) and ``d_ref = B u``, so that their displacement is zero there. (Laws
+  are taken to exert no force at zero displacement from their initial state, as every built-in
+  law does.)
+
+In ``"set-after-dead-load"``, motions that only the bearings restrain (a girder resting on
+sliding bearings alone, its rigid horizontal translation) are left undetermined by the
+equilibrium: the load does no work on them. They are fixed numerically: the solve uses
+``K_s = K_free + kappa B_free^T B_free`` with a tiny ``kappa`` (``STABILIZER`` times the largest
+diagonal term of ``K_free``) and refines ``q <- q + K_s^{-1} (T^T f - K_free q)`` until the
+residual is round-off: each step reduces the error of every loaded deformation by
+``kappa / (kappa + k)`` (``k`` the structure's stiffness in it), so two or three steps do, and the
+undetermined motions get only round-off over ``kappa``. A load *along* such a motion (gravity on
+a tilted sliding plane, a horizontal load on a girder that only its bearings hold) cannot be
+carried by free bearings: that is an error (use ``"active"``). The structure must also not be a
+mechanism with the laws at their initial tangent (e.g. frictionless bearings and nothing else
+holding the deck horizontally): that is checked, and reported as a mechanism, in both modes.
+
+Convergence: the residual must be within ``tol`` of the force scale, the total of the absolute
+applied forces (supported DOFs included: it bounds every reaction) and law forces. It is not
+judged against ``|K| |q|``, which a mechanism's huge ``q`` would inflate until garbage passed.
+
+Mechanisms: :func:`factorize` rejects a matrix whose LU factors have a pivot below
+``PIVOT_RATIO`` of the largest (round-off can leave a singular matrix with tiny instead of zero
+pivots), and names the DOFs that move most in the free motion.
 
 After convergence the full residual ``r = K u + B^T f_law - f`` is the set of constraint
 forces; its Lagrange multipliers give the support reactions and the forces of tied connector
 directions (:mod:`bearingfw.model.constraints`). The gravity preload is this analysis with the
-weight of every member, added mass and nodal mass as the load; its law states are the
-committed states a transient analysis starts from.
+weight of every member, added mass and nodal mass as the load; its law states and
+``law_reference`` are what a transient analysis starts from (the laws then see
+``B u - law_reference``: :attr:`StaticResult.law_displacements`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 
 import attrs
 import numpy as np
+import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from bearingfw.model import ModelError, NodalLoad, System, as_system
+from bearingfw.model.connectors import normal_force
 from bearingfw.model.nodes import COMPONENTS
 from bearingfw.plugins import Registry
 
-__all__ = ["StaticResult", "ConvergenceError", "solve_static", "gravity", "factorize", "recover_connector_forces"]
+__all__ = [
+    "StaticResult",
+    "ConvergenceError",
+    "solve_static",
+    "gravity",
+    "factorize",
+    "initial_tangent",
+    "recover_connector_forces",
+    "BEARINGS",
+    "PIVOT_RATIO",
+    "STABILIZER",
+]
+
+#: How bearings take part in a static analysis (module docstring).
+BEARINGS = ("set-after-dead-load", "active")
+#: LU pivots below this fraction of the largest one mean a (near-)singular matrix: a mechanism.
+#: Real stiffness contrasts of a bridge model stay above ~1e-6; a mechanism leaves ~1e-16.
+PIVOT_RATIO = 1e-12
+#: Stabilising stiffness of the governed directions in the "set-after-dead-load" solve, as a
+#: fraction of the largest diagonal term of K_free (well above PIVOT_RATIO, far below any member).
+STABILIZER = 1e-8
+#: A tangent block of a law counts as having lost its stiffness below this fraction of its initial one.
+_LOST = 1e-9
 
 
 class ConvergenceError(RuntimeError):
-    """Newton did not reach equilibrium."""
+    """Newton did not reach equilibrium (or the bearings' tangent lost the stiffness it needed)."""
 
 
-def factorize(K):
-    """LU factors of a free-DOF matrix with a clear message when the structure is a mechanism."""
+def _free_motion(K, lu=None, count: int = 8) -> np.ndarray:
+    """Indices of the DOFs of ``K`` that move most in its (near-)null space, largest first.
+
+    One solve with the (regularised, if ``lu`` is None) factors: ``K^-1 b`` is dominated by
+    the directions of the smallest pivots, i.e. the free motion.
+    """
+    n = K.shape[0]
+    b = np.random.default_rng(0).standard_normal(n)
     try:
-        return spla.splu(K.tocsc())
+        if lu is None:
+            shift = 1e-10 * max(float(abs(K.diagonal()).max(initial=0.0)), 1.0)
+            lu = spla.splu((K + shift * sp.eye(n)).tocsc())
+        z = np.abs(lu.solve(b))
+    except (RuntimeError, ValueError):
+        return np.zeros(0, dtype=int)
+    if not np.all(np.isfinite(z)) or not z.max(initial=0.0) > 0:
+        return np.zeros(0, dtype=int)
+    order = np.argsort(-z, kind="stable")
+    return order[z[order] >= 0.1 * z[order[0]]][:count]
+
+
+def _describe_free(system: System | None, free: np.ndarray) -> str:
+    if system is not None and free.size and system.n_free > int(free.max()):
+        return ", ".join(system.dofmap.describe(int(d)) for d in system.free_dofs[free])
+    return ", ".join(f"free DOF {int(d)}" for d in free)
+
+
+def factorize(K, *, system: System | None = None, pivot_ratio: float = PIVOT_RATIO):
+    """LU factors of a free-DOF matrix; a clear :class:`ModelError` when the structure is a mechanism.
+
+    Singular means an exactly zero pivot or one below ``pivot_ratio`` of the largest (round-off
+    turns the zero pivots of a singular matrix into tiny ones). The message names the DOFs that
+    move most in the free motion, as node.component when ``system`` (whose free DOFs ``K``
+    acts on) is given.
+    """
+    K = K.tocsc()
+    try:
+        lu = spla.splu(K)
     except RuntimeError as exc:
-        raise ModelError(
-            f"the stiffness matrix is singular ({exc}): the model is a mechanism; check supports, "
-            "connectors (a frictionless direction needs another restraint) and rigid links"
-        ) from exc
+        reason, lu = str(exc), None
+    else:
+        pivots = np.abs(lu.U.diagonal())
+        largest = float(pivots.max(initial=0.0))
+        ratio = float(pivots.min(initial=largest)) / largest if largest > 0 else 0.0
+        if ratio >= pivot_ratio:
+            return lu
+        reason = f"smallest LU pivot {ratio:.1e} of the largest"
+    moving = _describe_free(system, _free_motion(K, lu))
+    raise ModelError(
+        f"the stiffness matrix is singular ({reason}): the model is a mechanism; the free motion moves "
+        f"most {moving or 'unknown DOFs'}; check supports, connectors (a frictionless direction needs "
+        "another restraint) and rigid links"
+    )
+
+
+def initial_tangent(system: System, normal_forces: np.ndarray | None = None, dt: float = 1.0):
+    """``K_free + B_free^T K_t B_free`` with every law's initial tangent (symmetrised).
+
+    ``K_t`` is ``respond(initial_state(n), 0, N, dt).tangent``: the laws in their virgin state at
+    zero law displacement (for bearings set after the dead load: at the dead-load position).
+    ``normal_forces`` per connector (default zero) are passed to the laws.
+    """
+    ops = system.connectors
+    if not ops.groups:
+        return system.K_free
+    N = np.zeros(ops.n_connectors) if normal_forces is None else np.asarray(normal_forces, dtype=float)
+    zero = np.zeros(ops.n_governed)
+    responses = ops.respond(ops.initial_states(), zero, N[ops.spring_connectors], dt)
+    Kt = ops.tangent(responses)
+    Kt = (Kt + Kt.T) / 2
+    return (system.K_free + system.B_free.T @ Kt @ system.B_free).tocsr()
 
 
 @attrs.frozen(eq=False)
@@ -54,7 +174,11 @@ class StaticResult:
     structure, global axes, zero for free components. ``connector_forces`` (n_connectors, 3):
     local ``x, y, z`` forces resisting the relative displacement (a spring gives ``+k d``);
     ``normal_forces`` (n_connectors,): compressive normal force ``N = -F_z`` (>0 in
-    compression). ``law_states``: the committed states, one per law group.
+    compression). ``law_states``: the committed states, one per law group. ``law_reference``
+    (aligned with the rows of ``B``): the governed relative displacement at which the laws'
+    displacement is zero, ``B u`` of the dead load for ``bearings="set-after-dead-load"``, zeros
+    for ``"active"``; the laws see ``B u - law_reference`` (:attr:`law_displacements`).
+    ``bearings`` records the option the result was computed with.
     """
 
     system: System
@@ -67,6 +191,12 @@ class StaticResult:
     law_states: tuple
     law_forces: np.ndarray
     iterations: int
+    law_reference: np.ndarray | None = None
+    bearings: str = "active"
+
+    def __attrs_post_init__(self):
+        if self.law_reference is None:
+            object.__setattr__(self, "law_reference", np.zeros(self.system.connectors.n_governed))
 
     @property
     def q(self) -> np.ndarray:
@@ -75,7 +205,12 @@ class StaticResult:
 
     @property
     def normal_forces(self) -> np.ndarray:
-        return -self.connector_forces[:, 2]
+        return normal_force(self.connector_forces[:, 2])
+
+    @property
+    def law_displacements(self) -> np.ndarray:
+        """The displacement the laws see, ``B u - law_reference`` (flat, rows of ``B``)."""
+        return self.system.connectors.B @ self.u - self.law_reference
 
     def displacement(self, node: str, component: str = "uz") -> float:
         return float(self.u[self.system.dofmap.dof(node, component)])
@@ -128,6 +263,113 @@ def recover_connector_forces(
     return forces, reactions
 
 
+def _per_connector(system: System, N_springs: np.ndarray) -> np.ndarray:
+    N = np.zeros(system.connectors.n_connectors)
+    N[system.connectors.spring_connectors] = N_springs
+    return N
+
+
+def _force_scale(f: np.ndarray, f_law: np.ndarray) -> float:
+    """Total of the absolute applied and law forces: the size every equilibrium residual is judged by."""
+    return float(np.sum(np.abs(f)) + np.sum(np.abs(f_law)))
+
+
+def _check_mechanism_with_laws(system: System, N_springs: np.ndarray, dt: float) -> None:
+    """Raise the mechanism error if the structure with the laws' initial tangents is singular."""
+    if system.connectors.groups:
+        factorize(initial_tangent(system, _per_connector(system, N_springs), dt), system=system)
+
+
+def _lost_stiffness(system: System, responses, N_springs: np.ndarray, dt: float) -> list[str]:
+    """Connectors whose law tangent has (nearly) lost a direction's stiffness against its virgin one."""
+    ops = system.connectors
+    virgin = ops.respond(ops.initial_states(), np.zeros(ops.n_governed), N_springs, dt)
+    names = []
+    for g, now, then in zip(ops.groups, responses, virgin, strict=True):
+        lowest = np.linalg.svd(np.asarray(now.tangent, dtype=float), compute_uv=False)[:, -1]
+        highest = np.linalg.svd(np.asarray(then.tangent, dtype=float), compute_uv=False)[:, 0]
+        lost = (lowest <= _LOST * highest) & (highest > 0)
+        names += [system.model.connectors[c].name for c in g.connectors[lost]]
+    return names
+
+
+def _active(system: System, f: np.ndarray, dt: float, tol: float, max_iter: int):
+    """Newton with the laws acting from their virgin state (``bearings="active"``)."""
+    ops = system.connectors
+    T = system.T
+    f_free = T.T @ f
+    states0 = ops.initial_states()
+    q = np.zeros(system.n_free)
+    for iteration in range(max_iter + 1):
+        u = T @ q
+        N = ops.normal_forces(ops.V @ u)
+        responses = ops.respond(states0, ops.B @ u, N, dt)
+        f_law = ops.forces(responses)
+        residual = system.K_free @ q + system.B_free.T @ f_law - f_free
+        scale = max(_force_scale(f, f_law), 1e-300)
+        if np.max(np.abs(residual), initial=0.0) <= tol * scale:
+            return u, f_law, tuple(r.state for r in responses), iteration
+        if iteration == max_iter:
+            raise ConvergenceError(
+                f"solve_static: no equilibrium after {max_iter} Newton iterations "
+                f"(residual {np.max(np.abs(residual)):.3g} vs force scale {scale:.3g})"
+            )
+        Kt = system.K_free + system.B_free.T @ ops.tangent(responses) @ system.B_free
+        try:
+            lu = factorize(Kt, system=system)
+        except ModelError as exc:
+            if iteration == 0:  # the laws' initial tangents: a mechanism of the structure
+                raise
+            slipping = _lost_stiffness(system, responses, N, dt)
+            raise ConvergenceError(
+                "solve_static (bearings='active'): the bearings "
+                f"{', '.join(map(repr, slipping)) or '(unidentified)'} slip under this load and their tangent "
+                "lost the stiffness that held the structure (e.g. a girder held horizontally by friction "
+                "bearings only): the equilibrium does not fix the sliding position. This is not a mechanism "
+                "of the structure (it stands with the bearings' initial stiffness). For a dead load use "
+                f"bearings='set-after-dead-load' (the bearings installed in the dead-load position). [{exc}]"
+            ) from exc
+        q = q - lu.solve(residual)
+
+
+def _set_after_dead_load(system: System, f: np.ndarray, dt: float, tol: float, max_iter: int):
+    """The load carried with the governed directions free (``bearings="set-after-dead-load"``)."""
+    ops = system.connectors
+    T = system.T
+    f_free = T.T @ f
+    K = system.K_free
+    # A tiny stiffness in the governed directions fixes the motions only the bearings restrain;
+    # the refinement below removes its force from everything the load deforms.
+    kappa = STABILIZER * max(float(abs(K.diagonal()).max(initial=0.0)), 1e-300)
+    lu = factorize(K + kappa * (system.B_free.T @ system.B_free), system=system)
+    q = np.zeros(system.n_free)
+    scale = max(_force_scale(f, np.zeros(0)), 1e-300)
+    previous = np.inf
+    for iteration in range(max_iter + 1):
+        residual = f_free - K @ q
+        size = float(np.max(np.abs(residual), initial=0.0))
+        if size <= tol * scale:
+            break
+        if iteration == max_iter or size > 0.5 * previous:
+            # Not converging: the load has a part the free bearing directions cannot carry. Unless
+            # even the laws cannot hold it (a mechanism, reported as such), say so.
+            _check_mechanism_with_laws(system, ops.normal_forces(ops.V @ (T @ q)), dt)
+            moving = _describe_free(system, np.argsort(-np.abs(q))[:8])
+            raise ModelError(
+                "gravity/solve_static (bearings='set-after-dead-load'): the load pushes along motions that only "
+                f"the bearings restrain (moving most {moving}), e.g. gravity along a tilted sliding plane or a "
+                "horizontal load on a girder that only its bearings hold; bearings set after the dead load "
+                "carry no force in their governed directions. Use bearings='active' for such a load "
+                f"(residual {size:.3g} vs force scale {scale:.3g})"
+            )
+        previous = size
+        q = q + lu.solve(residual)
+    u = T @ q
+    N = ops.normal_forces(ops.V @ u)
+    _check_mechanism_with_laws(system, N, dt)
+    return u, np.zeros(ops.n_governed), ops.initial_states(), ops.B @ u, iteration
+
+
 def solve_static(
     model_or_system,
     loads: Iterable[NodalLoad] | np.ndarray = (),
@@ -137,16 +379,26 @@ def solve_static(
     dt: float = 1.0,
     tol: float = 1e-10,
     max_iter: int = 50,
+    bearings: str = "active",
 ) -> StaticResult:
     """Static equilibrium under point loads (or a full load vector) plus gravity ``g`` (m/s^2).
 
-    ``dt`` is passed to the laws' ``respond`` (a static analysis is one step); ``tol`` bounds
-    the residual relative to the largest sum of absolute terms in any equation
-    (``|K| |q| + |B^T| |f_law| + |f|``).
+    ``bearings``: ``"active"`` (default; the laws act from their virgin state) or
+    ``"set-after-dead-load"`` (the load is carried with the law-governed directions free and the
+    laws are set, virgin, at the resulting position): see the module docstring. ``dt`` is
+    passed to the laws' ``respond`` (a static analysis is one step); ``tol`` bounds the
+    residual relative to the total of the absolute applied and law forces.
+
+    Raises :class:`ModelError` for a mechanism (naming the DOFs of the free motion) and
+    :class:`ConvergenceError` when Newton does not converge or ``"active"`` bearings slip into
+    a position the equilibrium does not fix.
     """
     system = as_system(model_or_system, registry)
     if not (np.isfinite(g) and g >= 0.0):
         raise ModelError(f"solve_static: parameter 'g' = {g!r} must be >= 0")
+    if bearings not in BEARINGS:
+        allowed = ", ".join(map(repr, BEARINGS))
+        raise ModelError(f"solve_static: parameter 'bearings' must be one of {allowed}, got {bearings!r}")
     f = system.load_vector(loads)
     if g:
         f = f + system.gravity_load(g)
@@ -155,29 +407,11 @@ def solve_static(
         bad = inactive[f[inactive] != 0.0][0]
         raise ModelError(f"a load acts on DOF {system.dofmap.describe(int(bad))}, which nothing resists")
     ops = system.connectors
-    T = system.T
-    f_free = T.T @ f
-    # The residual is judged against the size of the terms summed into it (|K| |q| + ...), so
-    # that round-off in a stiff model does not read as non-convergence.
-    abs_K, abs_Bt = abs(system.K_free), abs(system.B_free.T)
-    states0 = ops.initial_states()
-    q = np.zeros(system.n_free)
-    for iteration in range(max_iter + 1):
-        u = T @ q
-        responses = ops.respond(states0, ops.B @ u, ops.normal_forces(ops.V @ u), dt)
-        f_law = ops.forces(responses)
-        residual = system.K_free @ q + system.B_free.T @ f_law - f_free
-        terms = abs_K @ np.abs(q) + abs_Bt @ np.abs(f_law) + np.abs(f_free)
-        scale = max(float(np.max(terms, initial=0.0)), 1e-300)
-        if np.max(np.abs(residual), initial=0.0) <= tol * scale:
-            break
-        if iteration == max_iter:
-            raise ConvergenceError(
-                f"solve_static: no equilibrium after {max_iter} Newton iterations "
-                f"(residual {np.max(np.abs(residual)):.3g} N vs force scale {scale:.3g} N)"
-            )
-        Kt = system.K_free + system.B_free.T @ ops.tangent(responses) @ system.B_free
-        q = q - factorize(Kt).solve(residual)
+    if bearings == "active":
+        u, f_law, states, iterations = _active(system, f, dt, tol, max_iter)
+        reference = np.zeros(ops.n_governed)
+    else:
+        u, f_law, states, reference, iterations = _set_after_dead_load(system, f, dt, tol, max_iter)
     r_full = system.K @ u + ops.B.T @ f_law - f
     lam = system.constraints.multipliers(r_full)
     forces, reactions = recover_connector_forces(system, u, f_law, lam)
@@ -189,18 +423,38 @@ def solve_static(
         multipliers=lam,
         support_reactions=reactions,
         connector_forces=forces,
-        law_states=tuple(r.state for r in responses),
+        law_states=tuple(states),
         law_forces=f_law,
-        iterations=iteration,
+        iterations=iterations,
+        law_reference=reference,
+        bearings=bearings,
     )
 
 
 def gravity(
-    model_or_system, *, g: float = 9.81, loads: Iterable[NodalLoad] | np.ndarray = (), **options
+    model_or_system,
+    *,
+    g: float = 9.81,
+    loads: Iterable[NodalLoad] | np.ndarray = (),
+    bearings: str = "set-after-dead-load",
+    **options,
 ) -> StaticResult:
     """The gravity preload: self-weight, superimposed dead load (added and nodal masses), ``g`` down.
 
-    Returns the displacements, support reactions, bearing normal forces and the committed law
-    states from which a transient analysis continues. Options as for :func:`solve_static`.
+    Returns the displacements, support reactions, bearing normal forces, the law states and
+    ``law_reference`` from which a transient analysis continues. ``bearings``:
+
+    - ``"set-after-dead-load"`` (default): the bearings are installed in the dead-load position
+      (preset so that the dead-load movements are accommodated): the dead load (and ``loads``)
+      is carried with the law-governed directions free, the laws get ``N`` from the vertical
+      springs, keep their virgin states (zero slip, zero force), and ``law_reference = B u``.
+      A friction bearing thus starts the dynamics in stick, not on its slip circle. A
+      structure that is a mechanism with the laws' initial tangents (frictionless bearings and
+      nothing else holding the deck) is still reported as a mechanism.
+    - ``"active"``: the laws act from the undeformed geometry (friction bearings may slip under
+      the self-weight; a girder on friction bearings alone whose bearings both slip has no
+      determined position, reported as such).
+
+    Other options as for :func:`solve_static`.
     """
-    return solve_static(model_or_system, loads, g=g, **options)
+    return solve_static(model_or_system, loads, g=g, bearings=bearings, **options)

@@ -33,6 +33,7 @@ from bearingfw.model.connectors import (
     axes_from_rotation,
     build_connector_operators,
     connector_frame,
+    normal_force,
 )
 from bearingfw.model.constraints import Constraints
 from bearingfw.model.dofs import DofMap
@@ -41,7 +42,7 @@ from bearingfw.model.equations import Equation
 from bearingfw.model.materials import Material
 from bearingfw.model.model import Model
 from bearingfw.model.nodes import COMPONENTS, FIXED, PINNED, NodalLoad, NodalMass, Node, Support
-from bearingfw.model.sections import Section, StressPoint
+from bearingfw.model.sections import Section, StressPoint, rectangle_torsion
 from bearingfw.model.system import DIRECTIONS, System, as_system, build_system
 
 __all__ = [
@@ -76,4 +77,6 @@ __all__ = [
     "build_connector_operators",
     "build_system",
     "connector_frame",
+    "normal_force",
+    "rectangle_torsion",
 ]

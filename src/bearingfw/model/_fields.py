@@ -76,14 +76,16 @@ def vector3(*, default: Any = attrs.NOTHING, nonzero: bool = False, optional: bo
     return attrs.field(default=default, converter=_to_vector, validator=check, metadata={"doc": doc})
 
 
-def choice(options: Iterable[str], *, default: Any = attrs.NOTHING, doc: str = ""):
-    """A string among ``options`` (case-insensitive on input, stored lower-case)."""
+def choice(options: Iterable[str], *, default: Any = attrs.NOTHING, optional: bool = False, doc: str = ""):
+    """A string among ``options`` (case-insensitive on input, stored lower-case; ``None`` if optional)."""
     options = tuple(options)
 
     def convert(value):
         return value.lower() if isinstance(value, str) else value
 
     def check(instance, attribute, value):
+        if value is None and optional:
+            return
         if value not in options:
             allowed = ", ".join(map(repr, options))
             raise ModelError(f"{owner_of(instance)}: field {attribute.name!r} must be one of {allowed}, got {value!r}")

@@ -25,12 +25,14 @@ moments ``wL^2/12``; truss bars take ``wL/2`` at each end. Nodal masses take ``m
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import attrs
 import numpy as np
 import scipy.sparse as sp
 
 from bearingfw.model._fields import ModelError
-from bearingfw.model.dofs import NDOF_NODE, DofMap
+from bearingfw.model.dofs import DofMap
 from bearingfw.model.elements import FrameElement, TrussElement
 
 __all__ = [
@@ -39,6 +41,7 @@ __all__ = [
     "frame_arrays",
     "truss_arrays",
     "frame_axes",
+    "NEAR_VERTICAL",
     "frame_local_stiffness",
     "frame_local_mass",
     "frame_uniform_load",
@@ -51,28 +54,59 @@ __all__ = [
 
 _GLOBAL_X = np.array([1.0, 0.0, 0.0])
 _GLOBAL_Z = np.array([0.0, 0.0, 1.0])
+#: A member whose axis is within this angle (sine, ~0.06 degrees) of global Z counts as vertical.
+NEAR_VERTICAL = 1e-3
+#: A given ``orientation`` within this angle (sine) of the member axis is rejected as parallel.
+_PARALLEL = 1e-9
 
 
-def frame_axes(xi: np.ndarray, xj: np.ndarray, orientation: np.ndarray | None) -> np.ndarray:
+def frame_axes(
+    xi: np.ndarray, xj: np.ndarray, orientation: np.ndarray | None, names: Sequence[str] | None = None
+) -> np.ndarray:
     """Local axes of frame members, shape (n, 3, 3), rows ``x, y, z``.
 
-    ``orientation`` (n, 3) with NaN rows for "default" (see :mod:`bearingfw.model.elements`).
+    ``orientation`` (n, 3) with NaN rows for "default" (see :mod:`bearingfw.model.elements`):
+    ``v = Z``, except for a member within ``NEAR_VERTICAL`` of vertical, where ``v = -X``.
+    Then ``y = normalize(v x x) = (0, x_z, -x_y) / |.|`` is continuous in the tilt, whatever
+    its direction: a vertical member has ``y = +Y`` (pointing up) or ``-Y`` (down) and
+    ``z = -X``, and a member tilted by a small angle ``a`` has axes within ``a`` of those.
+    ``names`` (the members' names) let an error name the member.
     """
     x = xj - xi
     x = x / np.linalg.norm(x, axis=1, keepdims=True)
     v = np.broadcast_to(_GLOBAL_Z, x.shape).copy()
-    vertical = np.linalg.norm(np.cross(v, x), axis=1) < 1e-6
+    # Near vertical, v = Z would make y = normalize(Z x x) swing with the direction of the
+    # tilt; v = -X keeps it continuous there. No rule is continuous for every axis direction
+    # (hairy-ball theorem): this one jumps at 0.06 degrees of tilt, beyond which a sloping
+    # member gets the horizontal-member rule, as its user expects.
+    vertical = np.linalg.norm(np.cross(v, x), axis=1) < NEAR_VERTICAL
     v[vertical] = -_GLOBAL_X
     if orientation is not None:
         given = ~np.isnan(orientation[:, 0])
         v[given] = orientation[given]
     y = np.cross(v, x)
     norm = np.linalg.norm(y, axis=1)
-    if np.any(norm < 1e-9 * np.linalg.norm(v, axis=1)):
-        raise ModelError("frame element orientation vector is parallel to the element axis")
+    parallel = norm < _PARALLEL * np.linalg.norm(v, axis=1)
+    if np.any(parallel):
+        k = int(np.flatnonzero(parallel)[0])
+        who = f"FrameElement {names[k]!r}" if names is not None else "frame element"
+        raise ModelError(f"{who}: field 'orientation' {tuple(v[k].tolist())} is parallel to the element axis")
     y = y / norm[:, None]
     z = np.cross(x, y)
     return np.stack([x, y, z], axis=1)
+
+
+#: Local DOFs of the bending planes: (v_i, theta_z,i, v_j, theta_z,j) and (w_i, theta_y,i, w_j, theta_y,j).
+_XY_PLANE = np.array([1, 5, 7, 11])
+_XZ_PLANE = np.array([2, 4, 8, 10])
+#: In the x-z plane theta_y = -w': the rotation rows and columns of a block change sign.
+_XZ_FLIP = np.array([1.0, -1.0, 1.0, -1.0])
+
+
+def _embed_bending(out: np.ndarray, xy: np.ndarray, xz: np.ndarray) -> None:
+    """Put (n, 4, 4) bending blocks written for ``theta = +w'`` into (n, 12, 12) element matrices."""
+    out[:, _XY_PLANE[:, None], _XY_PLANE[None, :]] = xy
+    out[:, _XZ_PLANE[:, None], _XZ_PLANE[None, :]] = xz * _XZ_FLIP[None, :, None] * _XZ_FLIP[None, None, :]
 
 
 def frame_local_stiffness(L, E, G, A, Iy, Iz, J, phi_y, phi_z) -> np.ndarray:
@@ -84,7 +118,7 @@ def frame_local_stiffness(L, E, G, A, Iy, Iz, J, phi_y, phi_z) -> np.ndarray:
         k[:, a, b] = val
         k[:, b, a] = val
 
-    # Bending block [w_i, t_i, w_j, t_j] for a plane where theta = +w' (x-y plane) ...
+    # Bending block [w_i, t_i, w_j, t_j] for a plane where theta = +w'.
     def block(EI, phi):
         c = EI / ((1.0 + phi) * L**3)
         b = np.zeros((n, 4, 4))
@@ -96,13 +130,7 @@ def frame_local_stiffness(L, E, G, A, Iy, Iz, J, phi_y, phi_z) -> np.ndarray:
         b[:, 1, 3] = b[:, 3, 1] = (2 - phi) * L**2 * c
         return b
 
-    xy = block(E * Iz, phi_y)
-    xz = block(E * Iy, phi_z)
-    # ... and the x-z plane where theta_y = -w': flip the sign of the rotation rows/columns.
-    flip = np.array([1.0, -1.0, 1.0, -1.0])
-    xz = xz * flip[None, :, None] * flip[None, None, :]
-    for idx, b in (((1, 5, 7, 11), xy), ((2, 4, 8, 10), xz)):
-        k[:, np.array(idx)[:, None], np.array(idx)[None, :]] = b
+    _embed_bending(k, block(E * Iz, phi_y), block(E * Iy, phi_z))
     return k
 
 
@@ -116,14 +144,18 @@ def frame_local_mass(L, m_line, rho_ip, lumped) -> np.ndarray:
         mass[:, a, b] = mass[:, b, a] = val * mL / 6
     for a, b, val in ((3, 3, 2), (9, 9, 2), (3, 9, 1)):
         mass[:, a, b] = mass[:, b, a] = val * rho_ip * L / 6
-    herm = np.empty((n, 4, 4))
-    base = np.array([[156, 22, 54, -13], [22, 4, 13, -3], [54, 13, 156, -22], [-13, -3, -22, 4]], dtype=float)
-    scale = np.array([1.0, 0.0, 1.0, 0.0])  # powers of L per row/column (rotation rows carry L)
-    pw = (1 - scale)[:, None] + (1 - scale)[None, :]
-    herm[:] = base[None] * (L[:, None, None] ** pw[None]) * (mL / 420)[:, None, None]
-    flip = np.array([1.0, -1.0, 1.0, -1.0])
-    for idx, b in (((1, 5, 7, 11), herm), ((2, 4, 8, 10), herm * flip[None, :, None] * flip[None, None, :])):
-        mass[:, np.array(idx)[:, None], np.array(idx)[None, :]] = b
+    # Cubic Hermitian bending mass, (m L / 420) [...] for [w_i, t_i, w_j, t_j] with theta = +w'.
+    c = mL / 420
+    herm = np.zeros((n, 4, 4))
+    herm[:, 0, 0] = herm[:, 2, 2] = 156 * c
+    herm[:, 0, 2] = herm[:, 2, 0] = 54 * c
+    herm[:, 0, 1] = herm[:, 1, 0] = 22 * L * c
+    herm[:, 2, 3] = herm[:, 3, 2] = -22 * L * c
+    herm[:, 1, 2] = herm[:, 2, 1] = 13 * L * c
+    herm[:, 0, 3] = herm[:, 3, 0] = -13 * L * c
+    herm[:, 1, 1] = herm[:, 3, 3] = 4 * L**2 * c
+    herm[:, 1, 3] = herm[:, 3, 1] = -3 * L**2 * c
+    _embed_bending(mass, herm, herm)
     # lumped
     if np.any(lumped):
         lump = np.zeros((n, 12, 12))
@@ -201,11 +233,6 @@ class TrussArrays:
     weight_line: np.ndarray  # (n,) mass per length (for gravity)
 
 
-def _node_dofs(dofmap: DofMap, names) -> np.ndarray:
-    idx = np.array([dofmap.node_index(n) for n in names], dtype=int)
-    return NDOF_NODE * idx[:, None] + np.arange(NDOF_NODE)[None, :]
-
-
 def frame_arrays(model, dofmap: DofMap) -> FrameArrays:
     elems = [(k, e) for k, e in enumerate(model.elements) if isinstance(e, FrameElement)]
     index = np.array([k for k, _ in elems], dtype=int)
@@ -217,7 +244,7 @@ def frame_arrays(model, dofmap: DofMap) -> FrameArrays:
     xi = coords[[model.node_index(e.i) for e in es]]
     xj = coords[[model.node_index(e.j) for e in es]]
     orient = np.array([e.orientation if e.orientation is not None else (np.nan,) * 3 for e in es], dtype=float)
-    R = frame_axes(xi, xj, orient)
+    R = frame_axes(xi, xj, orient, [e.name for e in es])
     L = np.linalg.norm(xj - xi, axis=1)
     get = lambda f: np.array([f(e) for e in es], dtype=float)  # noqa: E731
     E, G = get(lambda e: e.material.E), get(lambda e: e.material.shear_modulus)
@@ -234,7 +261,7 @@ def frame_arrays(model, dofmap: DofMap) -> FrameArrays:
     m_local = frame_local_mass(L, m_line, rho * (Iy + Iz), lumped)
     q_local = np.einsum("nij,j->ni", R, -_GLOBAL_Z) * m_line[:, None]  # weight per length per unit g
     weight_local = frame_uniform_load(L, q_local)
-    dofs = np.concatenate([_node_dofs(dofmap, [e.i for e in es]), _node_dofs(dofmap, [e.j for e in es])], axis=1)
+    dofs = np.concatenate([dofmap.node_dofs([e.i for e in es]), dofmap.node_dofs([e.j for e in es])], axis=1)
     return FrameArrays(index, dofs, L, R, k_local, m_local, weight_local)
 
 
@@ -260,7 +287,7 @@ def truss_arrays(model, dofmap: DofMap) -> TrussArrays:
     ml = np.block([[eye, 0 * eye], [0 * eye, eye]]) / 2
     m = np.where(lumped, ml, mc) * (m_line * L)[:, None, None]
     dofs = np.concatenate(
-        [_node_dofs(dofmap, [t.i for t in es])[:, :3], _node_dofs(dofmap, [t.j for t in es])[:, :3]], axis=1
+        [dofmap.node_dofs([t.i for t in es])[:, :3], dofmap.node_dofs([t.j for t in es])[:, :3]], axis=1
     )
     return TrussArrays(index, dofs, L, e, EA, k, m, m_line)
 

@@ -6,6 +6,12 @@ bearing soffit), which coincide. Its local frame has rows ``e_x`` (longitudinal)
 ``e_x`` = ``x_axis`` made orthogonal to ``e_z``, ``e_y = e_z x e_x``. The relative translation
 in that frame is ``d = R (u_j - u_i)``. Rotations are free (a pot bearing rotates).
 
+``e_z`` must point up (``e_z . Z > 0``; it may be tilted, e.g. normal to a sloping sliding
+plane): it is the direction in which the girder (node ``j``) presses on the bearing, so that
+the normal force ``N`` is positive in compression whatever the frame. A frame with ``e_z``
+pointing down would silently flip the sign of ``N`` (and a friction law would then see no
+contact), so it is rejected.
+
 =========  ==========================  ==========================================
 kind       vertical ``d_z``            horizontal ``d_x``, ``d_y``
 =========  ==========================  ==========================================
@@ -13,6 +19,12 @@ JOIN       tied                        both tied
 PLANAR     spring ``vertical_stiffness``  both governed by the law, ``dims = 2``
 AXIAL      spring ``vertical_stiffness``  ``guided`` one by the law (``dims = 1``), the other tied
 =========  ==========================  ==========================================
+
+The vertical direction of a sliding bearing is a stiff user-given spring, not a tie: its
+deformation ``d_z`` gives the normal force ``N = -kv d_z`` that a friction law reads at every
+step (dead load plus vertical dynamics) without a constraint force solve. Choose
+``vertical_stiffness`` as the bearing's real vertical stiffness (pot bearings: some GN/m); it
+also enters the modal analysis.
 
 A law is built with :func:`bearingfw.create_law` from its name and parameters; connectors
 that share (law, parameters, dims) share one law object (vectorised over them). If the law is
@@ -26,8 +38,8 @@ Operators (full DOF numbering, ``n_dof`` columns):
   ``g.rows``, connector-major then direction, so ``(B u)[g.rows].reshape(n, dims)`` is the
   ``u`` its law takes. Law forces assemble as ``B^T f`` and tangents as ``B^T K_t B``.
 - ``V`` (the ``e_z`` rows of connectors with a vertical spring): the vertical spring force is
-  ``kv * (V u)``; the bearing's compressive normal force is ``N = -kv * (V u)`` (compression
-  positive: node ``j`` pressed down onto ``i``).
+  ``F_z = kv * (V u)``; the bearing's compressive normal force is ``N = -F_z = -kv * (V u)``
+  (compression positive: node ``j`` pressed down onto ``i``; :func:`normal_force`).
 
 Sign of connector forces: ``F = R (force the connector exerts on node i)``, i.e. the force
 resisting ``d``; a linear spring gives ``F = +k d`` and the force on node ``j`` is ``-F``.
@@ -58,6 +70,7 @@ __all__ = [
     "build_connector_operators",
     "connector_frame",
     "axes_from_rotation",
+    "normal_force",
     "LOCAL_DIRECTIONS",
 ]
 
@@ -89,6 +102,15 @@ def _to_params(value):
     if isinstance(value, Mapping):
         return tuple(sorted(value.items()))
     return value
+
+
+def normal_force(local_force_z):
+    """The compressive normal force ``N = -F_z`` from a connector's local vertical force ``F_z``.
+
+    ``F_z`` resists ``d_z`` (module docstring: positive when the bearing is pulled apart), so a
+    bearing pressed together has ``F_z < 0`` and ``N > 0``.
+    """
+    return -np.asarray(local_force_z, dtype=float)
 
 
 def axes_from_rotation(rotation) -> dict[str, tuple[float, float, float]]:
@@ -123,7 +145,8 @@ class Connector:
     ``law`` (a registered law name) and ``law_params`` govern the horizontal directions of
     PLANAR and AXIAL connectors; JOIN takes neither. ``vertical_stiffness`` (N/m) is required
     for PLANAR and AXIAL and not taken by JOIN. ``guided`` is the AXIAL connector's governed
-    local direction, ``"x"`` (longitudinally guided) or ``"y"``.
+    local direction, ``"x"`` (longitudinally guided, the default) or ``"y"``; other kinds take
+    none. ``z_axis`` must point up (module docstring).
     """
 
     name: str = name_field()
@@ -133,7 +156,9 @@ class Connector:
     law: str | None = attrs.field(default=None)
     law_params: tuple[tuple[str, Any], ...] = attrs.field(default=(), converter=_to_params)
     vertical_stiffness: float | None = parameter(optional=True, low=0.0, low_open=True, unit="N/m", doc="vertical spring")
-    guided: str = choice(LOCAL_DIRECTIONS[:2], default="x", doc="AXIAL: the governed local direction")
+    guided: str | None = choice(
+        LOCAL_DIRECTIONS[:2], default=None, optional=True, doc="AXIAL: the governed local direction (default x)"
+    )
     x_axis: tuple[float, float, float] = vector3(default=(1.0, 0.0, 0.0), nonzero=True, doc="local x (longitudinal)")
     z_axis: tuple[float, float, float] = vector3(default=(0.0, 0.0, 1.0), nonzero=True, doc="local z (vertical)")
     _rotation: np.ndarray = attrs.field(init=False, repr=False, eq=False)
@@ -168,10 +193,23 @@ class Connector:
                 raise ModelError(
                     f"{me}: field 'vertical_stiffness' is required for a {self.kind.value.upper()} connector"
                 )
+        if self.kind is ConnectorKind.AXIAL:
+            if self.guided is None:
+                object.__setattr__(self, "guided", "x")
+        elif self.guided is not None:
+            raise ModelError(
+                f"{me}: field 'guided' applies to AXIAL connectors only; a {self.kind.value.upper()} connector "
+                f"{'governs both horizontal directions' if self.kind is ConnectorKind.PLANAR else 'ties them'}"
+            )
         try:
             rotation = connector_frame(self.x_axis, self.z_axis)
         except ModelError:
             raise ModelError(f"{me}: fields 'x_axis' and 'z_axis' are parallel") from None
+        if not rotation[2, 2] > 0.0:
+            raise ModelError(
+                f"{me}: field 'z_axis' {self.z_axis} must point up (a positive global z component): it is the "
+                "direction in which the girder presses on the bearing, and N > 0 in compression"
+            )
         rotation.setflags(write=False)
         object.__setattr__(self, "_rotation", rotation)
 
@@ -279,18 +317,30 @@ class ConnectorOperators:
         return [d[g.rows].reshape(g.n, g.dims) for g in self.groups]
 
     def normal_forces(self, v: np.ndarray) -> np.ndarray:
-        """Compressive normal force of each spring connector from ``v = V u``."""
-        return -self.kv * v
+        """Compressive normal force of each spring connector from ``v = V u`` (``N = -kv v``)."""
+        return normal_force(self.kv * v)
 
     def initial_states(self) -> tuple:
         return tuple(g.law.initial_state(g.n) for g in self.groups)
 
-    def respond(self, states: Sequence, d: np.ndarray, N_springs: np.ndarray, dt: float) -> list[LawResponse]:
+    def respond(
+        self,
+        states: Sequence,
+        d: np.ndarray,
+        N_springs: np.ndarray,
+        dt: float,
+        reference: np.ndarray | None = None,
+    ) -> list[LawResponse]:
         """Call every law at governed displacements ``d`` (flat) with normal forces per spring row.
 
-        The protocol's ``normal_force`` is ``>= 0``: uplift (``N < 0``) reaches the law as 0.
+        The laws see ``d - reference``: ``reference`` is the governed displacement at which
+        their displacement is zero (``StaticResult.law_reference``; bearings set after the dead
+        load), default zero. The protocol's ``normal_force`` is ``>= 0``: uplift (``N < 0``)
+        reaches the law as 0.
         """
         contact = np.maximum(N_springs, 0.0)
+        if reference is not None:
+            d = d - reference
         return [
             g.law.respond(state, u, contact[g.springs], dt)
             for g, state, u in zip(self.groups, states, self.split(d), strict=True)

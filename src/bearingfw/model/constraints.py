@@ -14,6 +14,15 @@ and the reduced matrices are ``T^T K T`` and ``T^T M T``.
   eliminated, so a rigid offset costs no DOFs.
 - Tied connector direction ``e`` (a row of the connector frame): ``e . (u_j - u_i) = 0``.
 
+Zero coefficients: after substitution a coefficient counts as zero below ``_RELATIVE_ZERO``
+times the equation's largest coefficient. In a translation equation (one on translation DOFs:
+supports of ``u*``, the first three rows of a link, ties) a rotation coefficient is a lever arm
+(m): a row left with nothing but arms shorter than ``ARM_ZERO`` (the connector length
+tolerance, within which the model treats two nodes as coincident) is redundant too. Without
+this, a tie between two nodes rigidly linked to the same master a round-off distance apart
+would keep the sub-micrometre arm terms and clamp the master's rotations. (A row that keeps a
+real term keeps its short arms as well: the other equations stay exact.)
+
 Slave choice: each equation lists preferred candidates (the slave node's DOFs for a link, the
 girder-side node's translations for a tie) and falls back to other DOFs when those are already
 eliminated, translations before rotations, largest coefficient first. An equation that
@@ -42,7 +51,7 @@ import scipy.sparse.linalg as spla
 
 from bearingfw.model.dofs import NDOF_NODE, DofMap, component_index
 from bearingfw.model.equations import Equation
-from bearingfw.model.model import Model
+from bearingfw.model.model import CONNECTOR_LENGTH_TOLERANCE, Model
 
 __all__ = [
     "Equation",
@@ -55,6 +64,23 @@ __all__ = [
 
 #: An equation's coefficients below this fraction of its largest original coefficient count as zero.
 _RELATIVE_ZERO = 1e-10
+#: Lever arms (rotation coefficients of a translation equation, m) shorter than this count as zero.
+ARM_ZERO = CONNECTOR_LENGTH_TOLERANCE
+
+
+def _only_short_arms(eq: Equation, row: dict[int, float]) -> bool:
+    """Whether the reduced ``row`` of a translation equation holds nothing but lever arms below ``ARM_ZERO``.
+
+    A translation equation's coefficients on translations are dimensionless and those on
+    rotations are lengths (m), compared with ``ARM_ZERO`` times the size of its translation
+    coefficients. A rotation equation has no arms.
+    """
+    pairs = zip(eq.dofs.tolist(), eq.coefficients.tolist(), strict=True)
+    on_translations = [abs(c) for d, c in pairs if d % NDOF_NODE < 3]
+    if not on_translations:
+        return False
+    arm_zero = ARM_ZERO * max(on_translations)
+    return all(d % NDOF_NODE >= 3 and abs(c) <= arm_zero for d, c in row.items())
 
 
 def support_equations(model: Model, dofmap: DofMap) -> list[Equation]:
@@ -124,7 +150,7 @@ def eliminate(equations: Sequence[Equation]) -> tuple[dict[int, dict[int, float]
                 row[d] += c
         tol = _RELATIVE_ZERO * float(np.max(np.abs(eq.coefficients)))
         row = {d: c for d, c in row.items() if abs(c) > tol}
-        if not row:
+        if not row or _only_short_arms(eq, row):
             redundant.append(eq)
             continue
         s = _pick_slave(row, eq.candidates)

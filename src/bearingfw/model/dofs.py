@@ -8,6 +8,7 @@ independent DOFs (see :mod:`bearingfw.model.constraints`).
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Iterable, Sequence
 
 import attrs
@@ -33,13 +34,21 @@ def component_index(component: str | int) -> int:
 
 @attrs.frozen(eq=False)
 class DofMap:
-    """Maps (node name, component) to the full DOF index."""
+    """Maps (node name, component) to the full DOF index.
 
-    node_names: tuple[str, ...]
+    It holds the one node-name index of a model (:attr:`bearingfw.model.Model.dofmap`); node
+    names must be unique.
+    """
+
+    node_names: tuple[str, ...] = attrs.field(converter=tuple)
     _index: dict[str, int] = attrs.field(init=False, repr=False)
 
     def __attrs_post_init__(self):
-        object.__setattr__(self, "_index", {name: k for k, name in enumerate(self.node_names)})
+        index = {name: k for k, name in enumerate(self.node_names)}
+        if len(index) != len(self.node_names):
+            twice = sorted(n for n, count in Counter(self.node_names).items() if count > 1)
+            raise ModelError(f"DofMap: field 'node_names' repeats {', '.join(map(repr, twice))}")
+        object.__setattr__(self, "_index", index)
 
     @property
     def n_nodes(self) -> int:
@@ -59,10 +68,12 @@ class DofMap:
         """The full DOF index of one component of one node."""
         return NDOF_NODE * self.node_index(node) + component_index(component)
 
-    def node_dofs(self, node: str) -> np.ndarray:
-        """The six DOF indices of a node."""
-        start = NDOF_NODE * self.node_index(node)
-        return np.arange(start, start + NDOF_NODE)
+    def node_dofs(self, node: str | Sequence[str]) -> np.ndarray:
+        """The six DOF indices of a node, shape (6,); of a sequence of nodes, shape (n, 6)."""
+        if isinstance(node, str):
+            return self.node_dofs([node])[0]
+        idx = np.array([self.node_index(n) for n in node], dtype=int).reshape(-1)
+        return NDOF_NODE * idx[:, None] + np.arange(NDOF_NODE)[None, :]
 
     def dofs(self, nodes: Iterable[str], components: Sequence[str | int] = COMPONENTS) -> np.ndarray:
         """DOF indices for every node in ``nodes`` and every component, node-major.

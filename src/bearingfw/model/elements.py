@@ -3,8 +3,12 @@
 Local axes of a frame element: ``x`` from node ``i`` to node ``j``; ``y = normalize(v x x)`` and
 ``z = x x y``, where ``v`` is the element's ``orientation``, any vector in the local x-z plane.
 When ``orientation`` is not given, ``v`` is the global Z (so for a horizontal member local z is
-vertical up and ``Iy`` governs vertical bending); for a vertical member (x within 1e-6 of global
-Z) ``v = -X``, which makes local y the global Y.
+vertical up and ``Iy`` governs vertical bending: along X, ``y = Y``; along Y, ``y = -X``). For a
+vertical or near-vertical member (axis within 1e-3 rad of global Z,
+:data:`~bearingfw.model.assembly.NEAR_VERTICAL`) ``v = -X``: a member pointing up has local
+``y = +Y`` and ``z = -X`` (pointing down: ``y = -Y``, ``z = -X``), and a slightly tilted one
+axes within its tilt of those, whichever way it leans (a pier's axes do not depend on
+round-off in its coordinates).
 """
 
 from __future__ import annotations

@@ -10,6 +10,7 @@ import numpy as np
 
 from bearingfw.model._fields import ModelError
 from bearingfw.model.connectors import Connector, ConnectorKind
+from bearingfw.model.dofs import DofMap
 from bearingfw.model.elements import FrameElement, RigidLink, TrussElement
 from bearingfw.model.nodes import NodalMass, Node, Support
 
@@ -66,12 +67,20 @@ class Model:
     name: str = "model"
     _index: dict[str, dict[str, int]] = attrs.field(init=False, repr=False)
     _coords: np.ndarray = attrs.field(init=False, repr=False)
+    _dofmap: DofMap = attrs.field(init=False, repr=False)
 
     def __attrs_post_init__(self):
         if not self.nodes:
             raise ModelError("Model: field 'nodes' is empty")
+        # The DofMap holds the one node-name index (node lookups and DOF numbering alike).
+        names = tuple(n.name for n in self.nodes)
+        try:
+            dofmap = DofMap(names)
+        except ModelError:
+            twice = next(n for k, n in enumerate(names) if n in names[:k])
+            raise ModelError(f"Model: field 'nodes' has two entries named {twice!r}") from None
+        object.__setattr__(self, "_dofmap", dofmap)
         index = {
-            "nodes": _unique("nodes", self.nodes),
             "elements": _unique("elements", self.elements),
             "connectors": _unique("connectors", self.connectors),
             "rigid_links": _unique("rigid_links", self.rigid_links),
@@ -80,12 +89,12 @@ class Model:
         coords = np.array([n.xyz for n in self.nodes], dtype=float)
         coords.setflags(write=False)
         object.__setattr__(self, "_coords", coords)
-        nodes = index["nodes"]
 
         def ref(kind: str, owner: str, field: str, node: str) -> int:
-            if node not in nodes:
-                raise ModelError(f"{kind} {owner!r}: field {field!r} names unknown node {node!r}")
-            return nodes[node]
+            try:
+                return dofmap.node_index(node)
+            except ModelError:
+                raise ModelError(f"{kind} {owner!r}: field {field!r} names unknown node {node!r}") from None
 
         for e in self.elements:
             i, j = ref(type(e).__name__, e.name, "i", e.i), ref(type(e).__name__, e.name, "j", e.j)
@@ -121,7 +130,7 @@ class Model:
             raise ModelError(f"Model: no {kind[:-1].replace('_', ' ')} named {name!r}") from None
 
     def node(self, name: str) -> Node:
-        return self._get("nodes", name)
+        return self.nodes[self.node_index(name)]
 
     def element(self, name: str) -> FrameElement | TrussElement:
         return self._get("elements", name)
@@ -133,8 +142,10 @@ class Model:
         return self._get("rigid_links", name)
 
     def node_index(self, name: str) -> int:
-        self.node(name)
-        return self._index["nodes"][name]
+        try:
+            return self._dofmap.node_index(name)
+        except ModelError:
+            raise ModelError(f"Model: no node named {name!r}") from None
 
     def element_index(self, name: str) -> int:
         self.element(name)
@@ -146,7 +157,12 @@ class Model:
 
     @property
     def node_names(self) -> tuple[str, ...]:
-        return tuple(n.name for n in self.nodes)
+        return self._dofmap.node_names
+
+    @property
+    def dofmap(self) -> DofMap:
+        """The DOF numbering of this model (six DOFs per node, node-major; the node-name index)."""
+        return self._dofmap
 
     @property
     def coordinates(self) -> np.ndarray:

@@ -129,7 +129,7 @@ def build_system(model: Model, registry: Registry | None = None) -> System:
     """Assemble ``model``. Laws are looked up in ``registry`` (default: the installed plugins)."""
     if not isinstance(model, Model):
         raise ModelError(f"build_system needs a Model, got {type(model).__name__}")
-    dofmap = DofMap(model.node_names)
+    dofmap = model.dofmap
     frames = frame_arrays(model, dofmap)
     trusses = truss_arrays(model, dofmap)
     connectors = build_connector_operators(model, dofmap, registry)

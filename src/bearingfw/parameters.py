@@ -16,11 +16,12 @@ from __future__ import annotations
 
 import math
 import numbers
+from collections.abc import Iterable
 from typing import Any
 
 import attrs
 
-__all__ = ["ParameterError", "describe_range", "dims_parameter", "owner_of", "parameter"]
+__all__ = ["ParameterError", "choice", "describe_range", "dims_parameter", "integer_parameter", "owner_of", "parameter"]
 
 
 class ParameterError(ValueError):
@@ -119,4 +120,46 @@ def dims_parameter(default: int = 1):
         default=default,
         validator=check,
         metadata={"range": "1 or 2", "unit": "", "doc": "shear directions governed together (set by the connector kind)"},
+    )
+
+
+def integer_parameter(*, low: int, high: int, default: Any = attrs.NOTHING, doc: str = ""):
+    """An attrs field holding a whole number within ``[low, high]`` (not a bool, not a float)."""
+
+    def check(instance, attribute, value):
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not low <= value <= high:
+            raise ParameterError(
+                f"{owner_of(instance)}: parameter {attribute.name!r} must be an integer with "
+                f"{low} <= {attribute.name} <= {high}, got {value!r}"
+            )
+
+    return attrs.field(
+        default=default,
+        converter=lambda v: int(v) if isinstance(v, numbers.Integral) and not isinstance(v, bool) else v,
+        validator=check,
+        metadata={"range": f"{low} <= {{name}} <= {high}", "unit": "", "doc": doc},
+    )
+
+
+def choice(options: Iterable[str], *, default: Any = attrs.NOTHING, optional: bool = False, doc: str = ""):
+    """An attrs field holding one of ``options`` (case-insensitive on input, stored lower-case).
+
+    ``optional=True`` also accepts ``None`` (not given).
+    """
+    options = tuple(options)
+
+    def convert(value):
+        return value.lower() if isinstance(value, str) else value
+
+    def check(instance, attribute, value):
+        if value is None and optional:
+            return
+        if value not in options:
+            allowed = ", ".join(map(repr, options))
+            raise ParameterError(
+                f"{owner_of(instance)}: parameter {attribute.name!r} must be one of {allowed}, got {value!r}"
+            )
+
+    return attrs.field(
+        default=default, converter=convert, validator=check, metadata={"doc": doc, "range": " | ".join(options)}
     )

@@ -44,7 +44,7 @@ def two_nodes(z=0.0):
         (lambda: TrussElement("h1", "a", "b", area=0.0, material=STEEL), r"'area' = 0.0"),
         (lambda: FrameElement("e", "a", "a", SEC, STEEL), r"fields 'i' and 'j' name the same node"),
         (lambda: FrameElement("e", "a", "b", SEC, "steel"), r"field 'material' must be a Material"),
-        (lambda: FrameElement("e", "a", "b", SEC, STEEL, mass="diagonal"), r"field 'mass' must be one of"),
+        (lambda: FrameElement("e", "a", "b", SEC, STEEL, mass="diagonal"), r"parameter 'mass' must be one of"),
         (lambda: FrameElement("e", "a", "b", SEC, STEEL, shear_deformation=True), r"needs the shear areas"),
         (lambda: FrameElement("e", "a", "b", SEC, STEEL, orientation=(0, 0, 0)), r"'orientation' must be a non-zero"),
         (lambda: Support("a", ("ux", "wz")), r"field 'dofs'"),
@@ -56,7 +56,7 @@ def two_nodes(z=0.0):
         ),
         (lambda: Connector("3B", "a", "b", "planar", vertical_stiffness=1e9), r"connector '3B': field 'law' must name"),
         (lambda: Connector("3B", "a", "b", "join", law="fixed"), r"connector '3B': field 'law' must be None"),
-        (lambda: Connector("3B", "a", "b", "axial", law="x", vertical_stiffness=1e9, guided="z"), r"field 'guided'"),
+        (lambda: Connector("3B", "a", "b", "axial", law="x", vertical_stiffness=1e9, guided="z"), r"parameter 'guided'"),
         (lambda: Connector("3B", "a", "b", "axial", law="x", vertical_stiffness=-1.0), r"'vertical_stiffness' = -1.0"),
         (lambda: Connector("3B", "a", "b", "join", x_axis=(0, 0, 2)), r"'x_axis' and 'z_axis' are parallel"),
         (

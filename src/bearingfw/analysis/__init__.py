@@ -1,9 +1,13 @@
-"""Analyses on an assembled model: static (gravity preload), modal (eigen, MAC), element results.
+"""Analyses on an assembled model: static (gravity preload), modal (eigen, MAC), element results,
+transient (HHT-alpha time history with recorders and an energy balance).
 
 Every analysis takes a :class:`~bearingfw.model.Model` (assembled on the fly, laws from the
 installed plugins or from ``registry=``) or an already built :class:`~bearingfw.model.System`.
 """
 
+from bearingfw.analysis.damping import Rayleigh, damping_ratio_from_log_decrement, rayleigh_from_ratios
+from bearingfw.analysis.energy import ENERGY_COLUMNS, Energy
+from bearingfw.analysis.history import TransientResult
 from bearingfw.analysis.modal import (
     DEFAULT_SHIFT,
     LABELS,
@@ -18,6 +22,7 @@ from bearingfw.analysis.modal import (
     participation,
     solve_modal,
 )
+from bearingfw.analysis.recorders import ConnectorResponse, ElementForces, ElementStress, NodalResponse
 from bearingfw.analysis.results import (
     SECTION_COMPONENTS,
     SectionForces,
@@ -36,23 +41,36 @@ from bearingfw.analysis.static import (
     recover_connector_forces,
     solve_static,
 )
+from bearingfw.analysis.transient import TransientError, TransientSettings, initial_acceleration, solve_transient
 
 __all__ = [
     "BEARINGS",
+    "ConnectorResponse",
     "DEFAULT_SHIFT",
+    "ENERGY_COLUMNS",
+    "ElementForces",
+    "ElementStress",
+    "Energy",
     "LABELS",
     "ConvergenceError",
     "ModalResult",
+    "NodalResponse",
+    "Rayleigh",
     "SECTION_COMPONENTS",
     "SectionForces",
     "StaticResult",
     "Stresses",
+    "TransientError",
+    "TransientResult",
+    "TransientSettings",
     "automac",
+    "damping_ratio_from_log_decrement",
     "eigen",
     "element_stresses",
     "energy_shares",
     "factorize",
     "gravity",
+    "initial_acceleration",
     "initial_tangent",
     "label_modes",
     "mac",
@@ -60,8 +78,10 @@ __all__ = [
     "solve_modal",
     "participation",
     "principal_stress",
+    "rayleigh_from_ratios",
     "recover_connector_forces",
     "section_forces",
     "section_stresses",
     "solve_static",
+    "solve_transient",
 ]

@@ -52,7 +52,7 @@ weight of every member, added mass and nodal mass as the load; its law states an
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable
 
 import attrs
 import numpy as np

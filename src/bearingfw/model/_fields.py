@@ -10,15 +10,14 @@ field.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
 from typing import Any
 
 import attrs
 import numpy as np
 
-from bearingfw.parameters import ParameterError, owner_of
+from bearingfw.parameters import ParameterError, choice, owner_of
 
-__all__ = ["ModelError", "name_field", "node_ref", "vector3", "choice", "owner_of"]
+__all__ = ["ModelError", "name_field", "node_ref", "vector3", "choice", "owner_of"]  # choice, owner_of: re-exported
 
 
 class ModelError(ParameterError):
@@ -74,22 +73,3 @@ def vector3(*, default: Any = attrs.NOTHING, nonzero: bool = False, optional: bo
             raise ModelError(f"{owner_of(instance)}: field {attribute.name!r} must be a non-zero vector")
 
     return attrs.field(default=default, converter=_to_vector, validator=check, metadata={"doc": doc})
-
-
-def choice(options: Iterable[str], *, default: Any = attrs.NOTHING, optional: bool = False, doc: str = ""):
-    """A string among ``options`` (case-insensitive on input, stored lower-case; ``None`` if optional)."""
-    options = tuple(options)
-
-    def convert(value):
-        return value.lower() if isinstance(value, str) else value
-
-    def check(instance, attribute, value):
-        if value is None and optional:
-            return
-        if value not in options:
-            allowed = ", ".join(map(repr, options))
-            raise ModelError(f"{owner_of(instance)}: field {attribute.name!r} must be one of {allowed}, got {value!r}")
-
-    return attrs.field(
-        default=default, converter=convert, validator=check, metadata={"doc": doc, "range": " | ".join(options)}
-    )

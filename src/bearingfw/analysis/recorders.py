@@ -1,0 +1,444 @@
+"""Recorders: what a transient run keeps, chosen by the user (nothing else is stored per step).
+
+Each recorder is a validated attrs object naming what to record; ``every=k`` keeps every k-th
+integration step (step 0, the preload state, always). Its arrays go into
+:attr:`TransientResult.data <bearingfw.analysis.TransientResult>` under keys that start with the
+recorder's ``name``, with its sample times under ``"<name>.time"``:
+
+=====================  =====================================================================
+recorder               arrays (``t`` = number of samples)
+=====================  =====================================================================
+ElementStress          ``<name>.<element>``: maximum principal stress (Pa), (t, 2 ends, points)
+ElementForces          ``<name>``: section forces, (t, elements, 2 ends, 6: N Vy Vz T My Mz)
+ConnectorResponse      ``<name>.force`` (t, c, 3) local x, y, z forces resisting the relative
+                       displacement; ``.displacement`` (t, c, 3) relative displacement
+                       ``R (u_j - u_i)``; ``.normal_force`` (t, c) compression > 0; ``.slip``
+                       (t, c, 3) the law state's ``"slip"`` in its directions (NaN when the law
+                       keeps none); ``.friction_ratio`` (t, c) ``|F_law| / N``, the force in the
+                       law's directions (not a guide's or a tie's reaction) over ``N`` (NaN when
+                       ``N <= 0`` or the connector has no law)
+NodalResponse          ``<name>``: (t, nodes, components) displacement, velocity or acceleration
+=====================  =====================================================================
+
+Totals: stresses, section forces and connector quantities are *total* (dead load + dynamic), as
+in the paper's figures. Nodal responses are relative by default: displacement from the preload
+(the dynamic part), velocity and acceleration relative to the ground; ``total=True`` gives the
+displacement including the dead-load deflection, and absolute (ground + relative) velocity and
+acceleration (what an accelerometer on the bridge measures).
+
+Section forces are linear in the displacements, so a recorder reads the map from displacements
+to the section forces of its elements off the kernel's :func:`section_forces` once (one call per
+DOF those elements touch) and then costs one small sparse product per sample. Tied connector
+directions (JOIN, the guided direction's neighbour) carry constraint forces: a
+:class:`ConnectorResponse` that includes such a connector solves for the Lagrange multipliers of
+the dynamic residual at every sample.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import attrs
+import numpy as np
+import scipy.sparse as sp
+
+from bearingfw.analysis.excitation import Excitation
+from bearingfw.analysis.results import SECTION_COMPONENTS, element_stresses, section_forces, section_stresses
+from bearingfw.analysis.static import StaticResult, recover_connector_forces
+from bearingfw.model import COMPONENTS, FrameElement, ModelError, System
+from bearingfw.model.connectors import normal_force
+from bearingfw.parameters import ParameterError, choice, integer_parameter
+
+__all__ = [
+    "ElementStress",
+    "ElementForces",
+    "ConnectorResponse",
+    "NodalResponse",
+    "Context",
+    "Snapshot",
+    "RESERVED_NAMES",
+]
+
+#: Names a recorder may not take (they are keys of the result file).
+RESERVED_NAMES = ("time", "energy", "meta")
+QUANTITIES = ("displacement", "velocity", "acceleration")
+
+
+def _names(value):
+    if isinstance(value, str):
+        return (value,)
+    try:
+        return tuple(value)
+    except TypeError:
+        return value
+
+
+def _check_names(instance, attribute, value):
+    if value is None and attribute.default is None:
+        return
+    if not isinstance(value, tuple) or not value or not all(isinstance(v, str) and v for v in value):
+        raise ParameterError(f"{type(instance).__name__}: field {attribute.name!r} must be a non-empty list of names")
+    if len(set(value)) != len(value):
+        raise ParameterError(f"{type(instance).__name__}: field {attribute.name!r} names an item twice: {value!r}")
+
+
+def _check_label(instance, attribute, value):
+    if value is None and attribute.default is None:
+        return
+    if not isinstance(value, str) or not value or "." in value or value in RESERVED_NAMES:
+        raise ParameterError(
+            f"{type(instance).__name__}: field 'name' must be a non-empty string without '.' and not one of "
+            f"{', '.join(RESERVED_NAMES)}; got {value!r}"
+        )
+
+
+def _names_field(*, optional: bool = False, doc: str = ""):
+    return attrs.field(
+        default=None if optional else attrs.NOTHING, converter=attrs.converters.optional(_names),
+        validator=_check_names, metadata={"doc": doc},
+    )
+
+
+def _label_field(default):
+    return attrs.field(default=default, validator=_check_label, metadata={"doc": "prefix of the result keys"})
+
+
+def _every_field():
+    return integer_parameter(low=1, high=10**9, default=1, doc="keep every k-th integration step")
+
+
+# ---- what probes read -----------------------------------------------------------------------
+@attrs.frozen(eq=False)
+class Snapshot:
+    """A committed instant as recorders see it (``x``, ``v``, ``a`` relative to the preload/ground)."""
+
+    t: float
+    x: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    f: np.ndarray  # law forces, total
+    law_states: tuple
+    ground_acceleration: np.ndarray  # (3,)
+    ground_velocity: np.ndarray  # (3,)
+    nodal: np.ndarray | None  # full dynamic nodal loads
+
+
+@attrs.frozen(eq=False)
+class Context:
+    """What recorders need to know about the run."""
+
+    system: System
+    preload: StaticResult
+    excitation: Excitation
+    a0: float
+    a1: float
+    _Bt: sp.csr_matrix = attrs.field(init=False, repr=False)
+
+    def __attrs_post_init__(self):
+        object.__setattr__(self, "_Bt", self.system.connectors.B.T.tocsr())
+
+    @property
+    def q0(self) -> np.ndarray:
+        return self.preload.q
+
+    def full_residual(self, s: Snapshot) -> np.ndarray:
+        """Dynamic part of the full-DOF residual (inertia with the ground acceleration, damping,
+        stiffness, laws, minus nodal loads): the constraint forces beyond the preload's."""
+        sys = self.system
+        T = sys.T
+        acc = T @ s.a + self.excitation.R @ s.ground_acceleration
+        vel = T @ s.v
+        r = sys.M @ (acc + self.a0 * vel) + sys.K @ (T @ s.x + self.a1 * vel)
+        r = r + self._Bt @ (s.f - self.preload.law_forces)
+        return r if s.nodal is None else r - s.nodal
+
+
+class _Probe:
+    """Collects one recorder's samples; ``finish`` returns its arrays and description."""
+
+    def __init__(self, spec):
+        self.spec = spec
+        self.label = spec.label
+        self.every = spec.every
+        self.times: list[float] = []
+
+    def sample(self, s: Snapshot) -> None:
+        self.times.append(s.t)
+        self._sample(s)
+
+    def finish(self) -> tuple[dict[str, np.ndarray], dict]:
+        data, meta = self._finish()
+        data[f"{self.label}.time"] = np.array(self.times)
+        return data, meta
+
+
+def _section_force_map(ctx: Context, names: tuple[str, ...]) -> tuple[sp.csr_matrix, np.ndarray]:
+    """``(L, F_dead)``: section forces (elements x 2 x 6, flattened) = ``L x + F_dead`` for ``x = q - q_0``."""
+    sys = ctx.system
+    model = sys.model
+    for n in names:
+        model.element(n)
+    nodes = {nd for n in names for nd in (model.element(n).i, model.element(n).j)}
+    dofs = np.concatenate([sys.dofmap.node_dofs(nd) for nd in sorted(nodes)])
+    cols = []
+    probe = np.zeros(sys.n_dof)
+    for dof in dofs:  # section forces are linear in u: read the map off the kernel, one DOF at a time
+        probe[dof] = 1.0
+        cols.append(section_forces(sys, probe, names).values.reshape(-1))
+        probe[dof] = 0.0
+    L_dofs = sp.csr_matrix(np.column_stack(cols))
+    L_full = sp.csr_matrix((L_dofs.data, dofs[L_dofs.indices], L_dofs.indptr), shape=(L_dofs.shape[0], sys.n_dof))
+    dead = section_forces(sys, ctx.preload.u, names, g=ctx.preload.g).values
+    return (L_full @ sys.T).tocsr(), dead
+
+
+# ---- element stresses and section forces ------------------------------------------------------
+@attrs.frozen
+class ElementStress:
+    """Maximum principal stress at both ends of frame ``elements``, at the sections' recovery
+    ``points`` (default: all of them; a section's points are set on :class:`~bearingfw.model.Section`)."""
+
+    elements: tuple[str, ...] = _names_field(doc="frame elements")
+    points: tuple[str, ...] | None = _names_field(optional=True, doc="recovery points (default all)")
+    every: int = _every_field()
+    name: str = _label_field("stress")
+
+    @property
+    def label(self) -> str:
+        return self.name
+
+    def bind(self, ctx: Context) -> _Probe:
+        return _StressProbe(self, ctx)
+
+
+class _StressProbe(_Probe):
+    def __init__(self, spec: ElementStress, ctx: Context):
+        super().__init__(spec)
+        model = ctx.system.model
+        self.sections, self.pick = [], []
+        for n in spec.elements:
+            e = model.element(n)
+            if not isinstance(e, FrameElement):
+                raise ModelError(
+                    f"ElementStress: element {n!r} is not a frame element (record its axial force with ElementForces)"
+                )
+            available = [p.name for p in e.section.points]
+            wanted = available if spec.points is None else list(spec.points)
+            missing = [p for p in wanted if p not in available]
+            if missing or not wanted:
+                raise ModelError(
+                    f"ElementStress: section {e.section.name!r} of element {n!r} has no recovery point(s) "
+                    f"{missing or wanted}; it has {available}"
+                )
+            self.sections.append(e.section)
+            self.pick.append([available.index(p) for p in wanted])
+        element_stresses(ctx.system, ctx.preload.u, spec.elements, g=ctx.preload.g)  # the kernel's own checks
+        self.L, self.dead = _section_force_map(ctx, spec.elements)
+        self.rows: list[np.ndarray] = []
+
+    def _sample(self, s: Snapshot) -> None:
+        self.rows.append(self.L @ s.x)
+
+    def _finish(self):
+        spec = self.spec
+        n = len(spec.elements)
+        forces = np.array(self.rows).reshape(-1, n, 2, 6) + self.dead[None]
+        data, points = {}, {}
+        for k, name in enumerate(spec.elements):
+            st = section_stresses(forces[:, k], self.sections[k])
+            data[f"{self.label}.{name}"] = st.sigma1[..., self.pick[k]]
+            points[name] = [st.points[i] for i in self.pick[k]]
+        meta = {"kind": "element stress", "elements": list(spec.elements), "points": points,
+                "ends": ["i", "j"], "unit": "Pa", "quantity": "maximum principal stress (total)"}
+        return data, meta
+
+
+@attrs.frozen
+class ElementForces:
+    """Section forces (total) at both ends of ``elements`` (frames and trusses), local axes."""
+
+    elements: tuple[str, ...] = _names_field(doc="elements")
+    every: int = _every_field()
+    name: str = _label_field("section_forces")
+
+    @property
+    def label(self) -> str:
+        return self.name
+
+    def bind(self, ctx: Context) -> _Probe:
+        return _ForcesProbe(self, ctx)
+
+
+class _ForcesProbe(_Probe):
+    def __init__(self, spec: ElementForces, ctx: Context):
+        super().__init__(spec)
+        self.L, self.dead = _section_force_map(ctx, spec.elements)
+        self.rows: list[np.ndarray] = []
+
+    def _sample(self, s: Snapshot) -> None:
+        self.rows.append(self.L @ s.x)
+
+    def _finish(self):
+        n = len(self.spec.elements)
+        values = np.array(self.rows).reshape(-1, n, 2, 6) + self.dead[None]
+        meta = {"kind": "section forces", "elements": list(self.spec.elements), "ends": ["i", "j"],
+                "components": list(SECTION_COMPONENTS), "unit": "N, N m"}
+        return {self.label: values}, meta
+
+
+# ---- connectors ---------------------------------------------------------------------------------
+@attrs.frozen
+class ConnectorResponse:
+    """Force, relative displacement, normal force, slip and friction ratio of ``connectors`` (default all)."""
+
+    connectors: tuple[str, ...] | None = _names_field(optional=True, doc="connector names (default all)")
+    every: int = _every_field()
+    name: str = _label_field("connectors")
+
+    @property
+    def label(self) -> str:
+        return self.name
+
+    def bind(self, ctx: Context) -> _Probe:
+        return _ConnectorProbe(self, ctx)
+
+
+class _ConnectorProbe(_Probe):
+    def __init__(self, spec: ConnectorResponse, ctx: Context):
+        super().__init__(spec)
+        sys = ctx.system
+        model = sys.model
+        names = tuple(c.name for c in model.connectors) if spec.connectors is None else spec.connectors
+        self.names = names
+        self.index = np.array([model.connector_index(n) for n in names], dtype=int)
+        ops = sys.connectors
+        rows = (3 * self.index[:, None] + np.arange(3)[None, :]).reshape(-1)
+        self.D = (ops.D[rows] @ sys.T).tocsr()
+        self.D0 = ops.D[rows] @ ctx.preload.u
+        tied = {c for c, _ in ops.ties}
+        self.needs_multipliers = bool(tied & set(self.index.tolist()))
+        # slip: (group, member position, local directions) per selected connector
+        where = {}
+        for gi, g in enumerate(ops.groups):
+            for pos, c in enumerate(g.connectors.tolist()):
+                where[c] = (gi, pos, model.connectors[c].law_directions)
+        self.where = [where.get(int(c)) for c in self.index]
+        self.ctx = ctx
+        self.forces, self.disp, self.slip = [], [], []
+
+    def _sample(self, s: Snapshot) -> None:
+        ctx = self.ctx
+        sys = ctx.system
+        u = sys.T @ (ctx.q0 + s.x)
+        lam = np.zeros(len(sys.constraints.equations))
+        if self.needs_multipliers:
+            lam = ctx.preload.multipliers + sys.constraints.multipliers(ctx.full_residual(s))
+        forces, _ = recover_connector_forces(sys, u, s.f, lam)
+        self.forces.append(forces[self.index])
+        self.disp.append((self.D0 + self.D @ s.x).reshape(-1, 3))
+        slip = np.full((self.index.size, 3), np.nan)
+        for k, w in enumerate(self.where):
+            if w is None:
+                continue
+            gi, pos, dirs = w
+            state = s.law_states[gi]
+            if isinstance(state, Mapping) and "slip" in state:
+                slip[k] = 0.0
+                slip[k, list(dirs)] = np.asarray(state["slip"])[pos]
+        self.slip.append(slip)
+
+    def _finish(self):
+        name = self.label
+        force = np.array(self.forces).reshape(-1, self.index.size, 3)
+        N = normal_force(force[..., 2])
+        # friction: the force in the law's directions only (a guided bearing's guide reaction and
+        # a fixed bearing's tie forces are not friction)
+        governed = np.zeros((self.index.size, 3), dtype=bool)
+        for k, w in enumerate(self.where):
+            if w is not None:
+                governed[k, list(w[2])] = True
+        friction = np.sqrt(np.sum(np.where(governed[None], force, 0.0) ** 2, axis=-1))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where((N > 0) & governed.any(axis=1)[None], friction / np.where(N > 0, N, 1.0), np.nan)
+        data = {
+            f"{name}.force": force,
+            f"{name}.displacement": np.array(self.disp).reshape(-1, self.index.size, 3),
+            f"{name}.normal_force": N,
+            f"{name}.slip": np.array(self.slip).reshape(-1, self.index.size, 3),
+            f"{name}.friction_ratio": ratio,
+        }
+        meta = {"kind": "connector response", "connectors": list(self.names), "directions": ["x", "y", "z"],
+                "units": {"force": "N", "displacement": "m", "normal_force": "N", "slip": "m", "friction_ratio": "-"}}
+        return data, meta
+
+
+# ---- nodes --------------------------------------------------------------------------------------
+def _components(value):
+    if isinstance(value, str):
+        return (value.lower(),)
+    try:
+        return tuple(str(v).lower() for v in value)
+    except TypeError:
+        return value
+
+
+def _check_components(instance, attribute, value):
+    valid = isinstance(value, tuple) and value and all(c in COMPONENTS for c in value)
+    if not valid or len(set(value)) != len(value):
+        raise ParameterError(
+            f"NodalResponse: field 'components' must be distinct names among {', '.join(COMPONENTS)}, got {value!r}"
+        )
+
+
+@attrs.frozen
+class NodalResponse:
+    """Displacement, velocity or acceleration of ``nodes`` (global components).
+
+    ``total=False``: displacement from the preload, velocity and acceleration relative to the
+    ground. ``total=True``: displacement including the dead-load deflection; absolute velocity and
+    acceleration (ground motion added to the translations).
+    """
+
+    nodes: tuple[str, ...] = _names_field(doc="node names")
+    quantity: str = choice(QUANTITIES, default="displacement", doc="what to record")
+    components: tuple[str, ...] = attrs.field(
+        default=("ux", "uy", "uz"), converter=_components, validator=_check_components
+    )
+    total: bool = attrs.field(default=False, validator=attrs.validators.instance_of(bool))
+    every: int = _every_field()
+    name: str | None = _label_field(None)
+
+    @property
+    def label(self) -> str:
+        return self.name or self.quantity
+
+    def bind(self, ctx: Context) -> _Probe:
+        return _NodalProbe(self, ctx)
+
+
+class _NodalProbe(_Probe):
+    def __init__(self, spec: NodalResponse, ctx: Context):
+        super().__init__(spec)
+        sys = ctx.system
+        dofs = sys.dofmap.dofs(spec.nodes, spec.components)
+        self.T = sys.T[dofs].tocsr()
+        self.shape = (len(spec.nodes), len(spec.components))
+        self.offset = ctx.preload.u[dofs] if (spec.total and spec.quantity == "displacement") else None
+        self.R = ctx.excitation.R[dofs] if (spec.total and spec.quantity != "displacement") else None
+        self.rows: list[np.ndarray] = []
+
+    def _sample(self, s: Snapshot) -> None:
+        quantity = self.spec.quantity
+        value = self.T @ (s.x if quantity == "displacement" else s.v if quantity == "velocity" else s.a)
+        if self.offset is not None:
+            value = value + self.offset
+        if self.R is not None:
+            value = value + self.R @ (s.ground_velocity if quantity == "velocity" else s.ground_acceleration)
+        self.rows.append(value)
+
+    def _finish(self):
+        spec = self.spec
+        unit = {"displacement": "m, rad", "velocity": "m/s, rad/s", "acceleration": "m/s^2, rad/s^2"}[spec.quantity]
+        meta = {"kind": "nodal response", "quantity": spec.quantity, "total": spec.total, "nodes": list(spec.nodes),
+                "components": list(spec.components), "unit": unit}
+        return {self.label: np.array(self.rows).reshape(-1, *self.shape)}, meta

@@ -19,6 +19,8 @@ Optional members that tools use when present:
   checks it unless the law says False.
 - ``force_bound(normal_force) -> (n,)``: an upper bound of ``|force|`` the law promises
   (friction: ``mu * N``); the conformance suite checks it.
+- ``slip(state) -> (n, dims)``: the irreversible part of the relative displacement in a
+  committed state (friction: the accumulated slip ``u_p``); recorders report it as "slip".
 """
 
 from __future__ import annotations

@@ -124,3 +124,9 @@ def test_bad_parameters_name_the_parameter_and_the_range(params, message):
 def test_integer_and_numpy_parameters_are_accepted_as_floats():
     law = create_law("regularized-coulomb", k=np.int64(400_000_000), mu=np.float32(0.04))
     assert isinstance(law.k, float) and law.k == 4e8
+
+
+def test_slip_is_the_plastic_part_of_the_displacement():
+    law = RegularizedCoulomb(k=K, mu=MU)
+    _, _, state = run_history(law, [[[3 * U_YIELD]]], N)
+    np.testing.assert_allclose(law.slip(state), [[2 * U_YIELD]])

@@ -422,3 +422,12 @@ def test_passes_the_bearingfw_conformance_suite(dims):
     times displacement_scale, so uy / 4 still takes the paths far past yield (and keeps it short)."""
     law = BoucWen(k=4e8, alpha=0.05, uy=1e-3, dims=dims)
     check_law(law, displacement_scale=law.uy / 4, max_examples=10)
+
+
+def test_slip_is_zero_in_the_elastic_range_and_grows_after_yield():
+    law = BoucWen(k=1e6, alpha=0.0, uy=1e-3, n=8.0)  # a sharp knee: nearly elastic-plastic
+    small = law.respond(law.initial_state(1), np.array([[1e-6]]), np.ones(1), 0.01).state
+    assert abs(law.slip(small)[0, 0]) < 1e-3 * 1e-6
+    large = law.respond(law.initial_state(1), np.array([[5e-3]]), np.ones(1), 0.01).state
+    # Saturated (z = 1): the elastic part is uy, the rest is plastic.
+    assert law.slip(large)[0, 0] == pytest.approx(5e-3 - 1e-3, rel=1e-3)

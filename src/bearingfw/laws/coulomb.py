@@ -42,6 +42,9 @@ class RegularizedCoulomb:
     def force_bound(self, normal_force) -> np.ndarray:
         return self.mu * np.maximum(np.asarray(normal_force, dtype=float), 0.0)
 
+    def slip(self, state) -> np.ndarray:
+        return state["slip"]
+
     def respond(self, state, u, normal_force, dt) -> LawResponse:
         u = np.asarray(u, dtype=float)
         slip = state["slip"]

@@ -164,7 +164,7 @@ def check_response_shapes(ctx: Context) -> None:
 
 
 def check_zero_at_rest(ctx: Context) -> None:
-    """Zero displacement from the initial state gives zero force, whatever the normal force."""
+    """Zero displacement from the initial state gives zero force (and zero slip, if reported)."""
     law = ctx.law
 
     @ctx.hypothesis(st.integers(1, 4).flatmap(lambda n: ctx.forces(1, n)))
@@ -173,6 +173,10 @@ def check_zero_at_rest(ctx: Context) -> None:
         force = law.respond(law.initial_state(n), np.zeros((n, law.dims)), normal[0], ctx.dt).force
         if np.any(np.abs(force) > 1e-12 * ctx.force_scale):
             ctx.fail("zero force at rest", f"force {np.asarray(force).tolist()} at zero displacement")
+        if hasattr(law, "slip"):
+            slip = np.asarray(law.slip(law.initial_state(n)))
+            if slip.shape != (n, law.dims) or np.any(slip != 0):
+                ctx.fail("zero force at rest", f"slip(initial_state({n})) is {slip.tolist()}, not zeros of shape {(n, law.dims)}")
 
 
 def check_purity(ctx: Context) -> None:

@@ -116,6 +116,14 @@ class BoucWen:
     def initial_state(self, n: int) -> dict:
         return {"z": np.zeros((n, self.dims)), "u": np.zeros((n, self.dims))}
 
+    def slip(self, state) -> np.ndarray:
+        """The plastic part of the displacement: ``u`` less the hysteretic spring's elastic part.
+
+        The hysteretic spring has initial stiffness ``(1 - alpha) k A`` and force
+        ``(1 - alpha) k uy z``, so its elastic deformation is ``uy z / A``.
+        """
+        return state["u"] - self.uy * state["z"] / self.A
+
     def respond(self, state, u, normal_force, dt) -> bearingfw.LawResponse:
         u = np.array(u, dtype=float)  # a copy: the state must not alias the caller's array
         du = u - state["u"]

@@ -10,9 +10,9 @@ import argparse
 import sys
 
 from bearingfw import __version__
-from bearingfw.cli import plugins, record
+from bearingfw.cli import modal, plugins, record, tune
 
-COMMANDS = [plugins, record]
+COMMANDS = [plugins, record, modal, tune]
 
 
 def build_parser() -> argparse.ArgumentParser:

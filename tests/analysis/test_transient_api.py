@@ -11,7 +11,9 @@ import scipy.sparse as sp
 from kernel_models import deck_model
 from transient_models import COLUMN_K, COLUMN_MASS, band_limited_noise, column_sdof, connector_chain, rel_err
 
+from bearingfw import create_law
 from bearingfw.analysis import (
+    ENERGY_COLUMNS,
     ConnectorResponse,
     ElementForces,
     ElementStress,
@@ -251,17 +253,207 @@ def test_column_lateral_stiffness_is_the_sdof_one():
     assert modes.frequencies[modes.dominant("y")] == pytest.approx(np.sqrt(COLUMN_K / COLUMN_MASS) / (2 * np.pi), rel=1e-9)
 
 
-def test_tie_forces_carry_the_inertia_of_the_tied_direction():
+@pytest.mark.parametrize("alpha", [0.0, -0.05, -1 / 3])
+def test_tie_forces_carry_the_inertia_of_the_tied_direction(alpha):
     """A mass on a guided bearing (x by a spring, y tied, z a spring): the guide (tie) pushes the
     mass with the whole ground acceleration in y, so its force is -m a_g,y (the connector force
     resists the relative displacement: the force on the mass is -F)."""
     m = 1.0e4
     model = connector_chain([m], [("linear-spring", {"k": 4.0e6})], [1.0e9])
     ag = band_limited_noise(101, 0.01, seed=8, amplitude=[1.0, 2.0, 0.5])
-    res = solve_transient(model, ag, 0.01, damping=Rayleigh(0.3, 0.001), recorders=[ConnectorResponse()])
+    res = solve_transient(
+        model, ag, 0.01, damping=Rayleigh(0.3, 0.001), settings=TransientSettings(alpha=alpha),
+        recorders=[ConnectorResponse()],
+    )
     force = res["connectors.force"][:, 0]
     assert rel_err(force[:, 1], -m * ag[:, 1]) < 1e-9
     # the friction ratio counts the law's direction only, not the guide's reaction
     N = res["connectors.normal_force"][:, 0]
     assert rel_err(res["connectors.friction_ratio"][:, 0], np.abs(force[:, 0]) / N) < 1e-12
     assert np.max(np.hypot(force[:, 0], force[:, 1]) / N) > 2 * np.max(np.abs(force[:, 0]) / N)
+
+
+def tied_pair_reference(ag: np.ndarray, dt: float, alpha: float, m1: float, m2: float, k: float, a0: float):
+    """HHT of two masses tied together in x, written with the tie's force as a Lagrange multiplier.
+
+    ``m1`` on a spring ``k`` to the ground, ``m2`` tied to ``m1``; mass-proportional damping
+    ``a0 M``; relative to the ground. The scheme weights every force but the relative inertia,
+    the tie's force ``P`` (on ``m2``) included::
+
+        m2 a_{n+1} + c (a0 m2 v_{n+1} + m2 ag_{n+1} - P_{n+1}) - alpha (a0 m2 v_n + m2 ag_n - P_n) = 0
+
+    and the sum of both masses' equations is the tied pair's SDOF. Returns x and P per step.
+    """
+    ga, be, c = 0.5 - alpha, (1 - alpha) ** 2 / 4, 1 + alpha
+    mt = m1 + m2
+    n = ag.shape[0]
+    x, P = np.zeros(n), np.zeros(n)
+    v, a = 0.0, -ag[0, 0]
+    P[0] = m2 * (a + ag[0, 0])
+    for i in range(n - 1):
+        xt = x[i] + dt * v + (0.5 - be) * dt**2 * a
+        vt = v + (1 - ga) * dt * a
+        lhs = mt + c * (a0 * mt * ga * dt + k * be * dt**2)
+        rhs = -c * (a0 * mt * vt + k * xt + mt * ag[i + 1, 0]) + alpha * (a0 * mt * v + k * x[i] + mt * ag[i, 0])
+        a1 = rhs / lhs
+        v1 = vt + ga * dt * a1
+        x[i + 1] = xt + be * dt**2 * a1
+        P[i + 1] = (m2 * a1 + c * (a0 * m2 * v1 + m2 * ag[i + 1, 0]) - alpha * (a0 * m2 * v + m2 * ag[i, 0] - P[i])) / c
+        a, v = a1, v1
+    return x, P
+
+
+@pytest.mark.parametrize("alpha", [0.0, -0.05, -1 / 3])
+def test_tie_force_between_moving_masses_is_the_one_of_the_weighted_equilibrium(alpha):
+    """``m2`` tied in x to ``m1``, which moves on a spring: the tie carries ``m2``'s inertia. With
+    alpha < 0 the multipliers must come from the alpha-weighted equation the scheme solved (the
+    equilibrium at t_{n+1} is not satisfied by HHT's accelerations: its least-squares multipliers
+    were off by 5 % at alpha = -0.05 and 33 % at -1/3)."""
+    m1, m2, k = 1.0e4, 3.0e3, 4.0e6
+    damping = Rayleigh(0.3, 0.001)  # beta acts on the vertical springs only (the x spring is a law)
+    model = connector_chain([m1, m2], [("linear-spring", {"k": k}), ("fixed", {})], [1.0e9, 1.0e9])
+    ag = band_limited_noise(201, 0.01, seed=8, amplitude=[2.0, 1.0, 0.5])
+    res = solve_transient(
+        model, ag, 0.01, damping=damping, settings=TransientSettings(alpha=alpha),
+        recorders=[ConnectorResponse(), NodalResponse(["m2"], components=["ux"])],
+    )
+    x, P = tied_pair_reference(ag, 0.01, alpha, m1, m2, k, damping.alpha)
+    assert rel_err(res["displacement"][:, 0, 0], x) < 1e-9
+    assert rel_err(res["connectors.force"][:, 1, 0], -P) < 1e-9  # resisting convention: -(force on m2)
+    assert rel_err(res["connectors.force"][:, 1, 1], -m2 * ag[:, 1]) < 1e-9
+    assert rel_err(res["connectors.force"][:, 0, 1], -(m1 + m2) * ag[:, 1]) < 1e-9
+
+
+# ---- result keys, file format -------------------------------------------------------------------
+def test_any_recorder_name_saves_and_clashing_keys_are_refused(tmp_path):
+    """np.savez(file, **arrays) broke on a key "file" and dropped "allow_pickle": the file is
+    written member by member now; keys that would clash are refused when the recorder is made."""
+    model = connector_chain([1.0e4], [("regularized-coulomb", {"k": 4e7, "mu": 0.05})], [1.0e9])
+    ag = band_limited_noise(51, 0.01, seed=1, amplitude=[3.0, 0.0, 0.0])
+    recorders = [ConnectorResponse(name="file"), NodalResponse(["m1"], name="allow_pickle"), NodalResponse(["m1"], name="meta_")]
+    res = solve_transient(model, ag, 0.01, recorders=recorders)
+    back = TransientResult.load(res.save(tmp_path / "keys"))
+    assert back.keys() == res.keys() and "file.force" in back.keys() and "allow_pickle" in back.keys()
+    for key in res.keys():
+        assert np.array_equal(back[key], res[key], equal_nan=True)
+    with pytest.raises(ParameterError, match=r"'time'.*sample times"):
+        ElementStress(["GA1", "time"])
+    for reserved in ("time", "meta", "energy"):
+        with pytest.raises(ParameterError, match="'name'"):
+            NodalResponse(["m1"], name=reserved)
+
+    class Custom:  # a duck-typed recorder must obey the same key rules
+        label, every = "meta", 1
+
+        def bind(self, ctx):
+            raise AssertionError("not reached")
+
+    with pytest.raises(ParameterError, match="not valid result keys"):
+        solve_transient(model, ag, 0.01, recorders=[Custom()])
+    clash = TransientResult(time=np.zeros(2), data={"energy.kinetic": np.zeros(2)}, energy={}, stats={})
+    with pytest.raises(ValueError, match="clash"):
+        clash.save(tmp_path / "clash")
+
+
+def test_meta_is_strict_json_with_null_for_non_finite_numbers(tmp_path):
+    res = TransientResult(
+        time=np.zeros(2), data={}, energy={}, stats={"residual": float("inf"), "ratio": np.float64("nan"), "n": np.int64(3)},
+        settings={"rayleigh": [0.0, np.nan]},
+    )
+    path = res.save(tmp_path / "strict")
+
+    def refuse(token):
+        raise AssertionError(f"non-standard JSON token {token}")
+
+    with np.load(path, allow_pickle=False) as z:
+        meta = json.loads(str(z["meta"]), parse_constant=refuse)
+    assert meta["stats"] == {"residual": None, "ratio": None, "n": 3} and meta["settings"]["rayleigh"] == [0.0, None]
+
+
+# ---- what the recorders report ------------------------------------------------------------------
+def test_slip_comes_from_the_law_and_hysteresis_uses_the_law_displacement():
+    """``.slip`` is the law's ``slip(state)`` (Bouc-Wen here: its state keeps no "slip" entry), NaN
+    for a law without ``slip``; ``.law_displacement`` is what the law sees (zero at the preload of
+    a bearing set after the dead load), ``.displacement`` the connector's relative displacement.
+    The check replays the law along the recorded law displacements (the protocol: the committed
+    state is the response's at the converged displacement) and asks it for its slip."""
+    params = {"k": 5e7, "alpha": 0.05, "uy": 2e-3, "A": 1.0, "beta": 0.5, "gamma": 0.5, "n": 1.0}
+    model = connector_chain([1.0e4, 1.0e4], [("bouc-wen", params), ("linear-spring", {"k": 4e7})], [1.0e9, 1.0e9])
+    pre = gravity(model)
+    ag = band_limited_noise(201, 0.01, seed=6, amplitude=[6.0, 0.0, 1.0])
+    res = solve_transient(model, ag, 0.01, preload=pre, recorders=[ConnectorResponse()])
+    law = create_law("bouc-wen", dims=1, **params)
+    state = law.initial_state(1)
+    expected = [law.slip(state)[0, 0]]
+    u, N = res["connectors.law_displacement"][:, 0, :1], res["connectors.normal_force"][:, 0]
+    for k in range(1, res.time.size):
+        state = law.respond(state, u[k][None], N[k : k + 1], 0.01).state
+        expected.append(law.slip(state)[0, 0])
+    slip = res["connectors.slip"]
+    assert rel_err(slip[:, 0, 0], expected) < 1e-9
+    assert np.max(np.abs(slip[:, 0, 0])) > 0.5 * params["uy"]  # it yields
+    assert np.all(np.isnan(slip[:, 0, 1:])) and np.all(np.isnan(slip[:, 1]))  # tied / vertical; no slip()
+    # law displacement: the law's directions only, zero at the start; the relative displacement
+    # also holds the dead-load part (here the vertical sag, outside the law's direction)
+    law_disp = res["connectors.law_displacement"]
+    assert np.all(law_disp[0, :, 0] == 0.0) and np.all(np.isnan(law_disp[:, :, 1:]))
+    rel = res["connectors.displacement"]
+    dead = (pre.system.connectors.D @ pre.u).reshape(-1, 3)
+    # (the laws' d and the recorded B x differ by the Newton tolerance on the fast path)
+    assert rel_err(rel[:, :, 0] - dead[None, :, 0], law_disp[:, :, 0]) < 1e-8
+    assert np.all(np.abs(dead[:, 2]) > 0)
+    assert res.recorders["connectors"]["units"]["law_displacement"] == "m"
+
+
+def test_law_displacement_starts_at_zero_where_the_dead_load_moved_the_bearing(deck_run):
+    """On the deck the dead load rotates the girder ends, which moves the soffit bearings
+    horizontally: ``.displacement`` starts there, ``.law_displacement`` (what the law sees, the
+    hysteresis axis) at zero; the two differ by that constant offset."""
+    res = deck_run[3]
+    rel, law = res["connectors.displacement"], res["connectors.law_displacement"]
+    governed = ~np.isnan(law[0])
+    assert governed[0, :2].all() and not governed[1].any() and governed[2].tolist() == [False, True, False]
+    assert np.all(law[0][governed] == 0.0) and np.max(np.abs(rel[0][governed])) > 1e-4
+    offset = rel - law
+    assert np.max(np.abs(offset - offset[0])[:, governed]) < 1e-8 * np.max(np.abs(rel[:, governed]))
+
+
+def test_section_forces_at_any_time_are_the_kernels_of_the_recorded_displacement():
+    """The recorder's linear map, read off the kernel once, against the kernel's own
+    ``section_forces`` at the recorded total displacement, late in a nonlinear run."""
+    from bearingfw.model import COMPONENTS
+
+    model = deck_model("regularized-coulomb", {"k": 4e8, "mu": 0.04})
+    pre = gravity(model)
+    nodes = [n.name for n in model.nodes]
+    elements = ["GA2", "X4", "pier2B"]
+    ag = band_limited_noise(161, 0.01, seed=11, amplitude=[3.0, 2.5, 2.0])
+    res = solve_transient(
+        model, ag, 0.01, preload=pre,
+        recorders=[ElementForces(elements), NodalResponse(nodes, components=COMPONENTS, total=True, name="u")],
+    )
+    system = pre.system
+    dofs = system.dofmap.dofs(nodes, COMPONENTS)
+    for k in (40, 100, 160):
+        u = np.zeros(system.n_dof)
+        u[dofs] = res["u"][k].reshape(-1)
+        kernel = section_forces(system, u, elements, g=pre.g).values
+        assert rel_err(res["section_forces"][k], kernel) < 1e-10, k
+        assert rel_err(res["section_forces"][k], res["section_forces"][0]) > 1e-3  # it moved
+
+
+def test_nodal_response_describes_what_total_adds(deck_run):
+    res = deck_run[3]
+    assert "relative to the ground" in res.recorders["total_disp"]["reference"]
+    assert "dead-load" in res.recorders["total_disp"]["reference"]
+    assert res.recorders["acceleration"]["reference"].startswith("absolute")
+    assert res.recorders["rel_vel"]["reference"] == "relative to the ground"
+
+
+def test_energy_table_and_stats_carry_the_numerical_dissipation(deck_run):
+    res = deck_run[3]
+    assert set(res.energy) == {"time", *ENERGY_COLUMNS} and "numerical" in ENERGY_COLUMNS
+    assert res.stats["alpha"] == -0.05 == res.settings["alpha"]
+    assert res.balance_error < 1e-8 < res.numerical_dissipation
+    assert res.stats["setup_time"] + res.stats["loop_time"] <= res.stats["wall_time"] + 1e-9
+    assert res.stats["failed_iterations"] == 0 and res.stats["backtracks"] >= 0

@@ -94,7 +94,7 @@ def test_continuous_slip_reaches_den_hartog_amplitude(alpha=-0.05):
     assert np.mean(ratio > (1 - 1e-9) * MU) > 0.9
     slip = res["connectors.slip"][-3 * per :, 0, 0]
     assert np.ptp(slip) == pytest.approx(2 * amplitude, rel=0.01)
-    assert res.energy_error < 0.01
+    assert res.energy_error < 0.01 and res.balance_error < 1e-8
     assert res.energy["bearings"][-1] > 0.5 * res.energy["input"][-1]  # friction dissipates most of the input
 
 
@@ -121,4 +121,26 @@ def test_den_hartog_above_resonance_with_a_stiffer_stick():
     _, res = run(r, P0 / M, cycles=40, per_cycle=per, k_stick=1e4 * K)
     amplitude = np.max(np.abs(res["displacement"][-3 * per :, 0, 0]))
     assert amplitude == pytest.approx(den_hartog(r, f) * P0 / K, rel=0.02)
-    assert res.energy_error < 0.01
+    assert res.energy_error < 0.01 and res.balance_error < 1e-8
+
+
+def test_the_balance_error_exposes_a_scheme_error_that_the_imbalance_blurs(monkeypatch):
+    """Dropping HHT's alpha-weighting of the law forces (a plausible slip in ``effective_rhs``)
+    changes the response by a quarter here. The imbalance of the correct run is HHT's numerical
+    dissipation, so ``energy_error`` alone cannot tell a 1e-5 error from a real one; the split
+    can: the correct run balances to round-off, the wrong one does not."""
+    from bearingfw.analysis import hht
+
+    r, f, per = 0.8, 0.3, 100
+    P0 = MU * gravity(friction_oscillator(M, K, 1e3 * K, MU)).normal_force("friction") / f
+    _, good = run(r, P0 / M, cycles=5, per_cycle=per)
+    assert good.balance_error < 1e-12 and good.numerical_dissipation > 0
+    original = hht.effective_rhs
+
+    def without_law_weighting(p, s, h, load1):
+        rhs, xt, vt = original(p, s, h, load1)
+        return rhs - p.scheme.alpha * s.Bt_phi, xt, vt
+
+    monkeypatch.setattr(hht, "effective_rhs", without_law_weighting)
+    _, bad = run(r, P0 / M, cycles=5, per_cycle=per)
+    assert bad.balance_error > 1e-3

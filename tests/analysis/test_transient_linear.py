@@ -109,6 +109,9 @@ def test_hht_dissipation_is_numerical_energy_loss_and_grows_with_alpha():
     for alpha in (0.0, -0.1, -1 / 3):
         _, _, res = free_vibration(0.05, alpha)  # coarse: omega h = 0.67
         lost.append(res.energy["imbalance"][-1] / res.energy["input"].max())
+        # the split: the column "numerical" is that loss, to round-off
+        assert res.balance_error < 1e-12
+        assert res.numerical_dissipation == pytest.approx(lost[-1], abs=1e-12)
     assert abs(lost[0]) < 1e-10 and 0 < lost[1] < lost[2]
 
 

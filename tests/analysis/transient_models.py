@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+import contextlib
+import importlib.metadata as metadata
+import sys
+import types
 from typing import ClassVar
 
 import attrs
 import numpy as np
 
 import bearingfw
-from bearingfw.model import Connector, FrameElement, Material, Model, NodalMass, Node, Section, Support
+from bearingfw.model import Connector, FrameElement, Material, Model, NodalMass, Node, RigidLink, Section, Support
+from bearingfw.plugins import load_registry
 
 G = 9.81
 
@@ -136,3 +141,101 @@ class BrittleSpring:
         force = np.where(broken, np.nan, self.k * u)
         tangent = np.broadcast_to(self.k * np.eye(self.dims), (u.shape[0], self.dims, self.dims)).copy()
         return bearingfw.LawResponse(force, tangent, state)
+
+
+@attrs.frozen
+class StepLimitedSpring:
+    """F = k u, but a non-finite force for a time step above ``dt_max`` (like a law that integrates
+    itself explicitly and must not be called with long steps): every step longer than that fails,
+    whatever Newton does, and only halving the step helps."""
+
+    name: ClassVar[str] = "test-step-limited-spring"
+    rigid: ClassVar[bool] = False
+    k: float = bearingfw.parameter(low=0.0, low_open=True, unit="N/m")
+    dt_max: float = bearingfw.parameter(low=0.0, low_open=True, unit="s")
+    dims: int = bearingfw.dims_parameter()
+
+    def initial_state(self, n):
+        return {}
+
+    def respond(self, state, u, normal_force, dt):
+        u = np.asarray(u, dtype=float)
+        force = self.k * u if dt <= self.dt_max * (1 + 1e-12) else np.full_like(u, np.nan)
+        tangent = np.broadcast_to(self.k * np.eye(self.dims), (u.shape[0], self.dims, self.dims)).copy()
+        return bearingfw.LawResponse(force, tangent, state)
+
+
+@attrs.frozen
+class GrumpySpring:
+    """F = k u up to ``|u| = limit``, then ``respond`` raises (a law bug, not a convergence problem)."""
+
+    name: ClassVar[str] = "test-grumpy-spring"
+    rigid: ClassVar[bool] = False
+    k: float = bearingfw.parameter(low=0.0, low_open=True, unit="N/m")
+    limit: float = bearingfw.parameter(low=0.0, low_open=True, unit="m")
+    dims: int = bearingfw.dims_parameter()
+
+    def initial_state(self, n):
+        return {"slip": np.zeros((n, self.dims))}  # a "slip" in the state, but no slip() member
+
+    def respond(self, state, u, normal_force, dt):
+        u = np.asarray(u, dtype=float)
+        if np.any(np.abs(u) > self.limit):
+            raise ValueError(f"test-grumpy-spring: |u| = {np.abs(u).max():.3g} m beyond {self.limit} m")
+        tangent = np.broadcast_to(self.k * np.eye(self.dims), (u.shape[0], self.dims, self.dims)).copy()
+        return bearingfw.LawResponse(self.k * u, tangent, state)
+
+
+# --- a rigid block rocking on two friction bearings: N coupled to the friction forces ----------
+BLOCK_MASS = 2.0e4
+BLOCK_INERTIA = 2.0e4  # kg m^2 about y
+BLOCK_HEIGHT = 3.0  # centre of mass above the bearings' soffit
+BLOCK_HALF_BASE = 1.0  # bearings at x = -+ this
+
+
+def rocking_block(k_stick: float, mu: float, kv: float) -> Model:
+    """A rigid block (mass, inertia about y at ``CG``) on two AXIAL regularized-Coulomb bearings
+    (guided along x) at ``x = -+BLOCK_HALF_BASE``, ``BLOCK_HEIGHT`` below ``CG``, joined to it by
+    rigid links. The friction forces act ``BLOCK_HEIGHT`` below the centre of mass: their moment
+    rocks the block and moves load from one bearing to the other, so each bearing's ``N`` depends
+    on the horizontal response. Roll (rx) is held at ``CG``; y and the twist are held by the guides.
+    """
+    nodes = [Node("CG", 0.0, 0.0, BLOCK_HEIGHT)]
+    links, connectors, supports = [], [], [Support("CG", ("rx",))]
+    for name, x in (("L", -BLOCK_HALF_BASE), ("R", BLOCK_HALF_BASE)):
+        nodes += [Node(f"S{name}", x, 0.0, 0.0), Node(f"P{name}", x, 0.0, 0.0)]
+        links.append(RigidLink(f"link{name}", "CG", f"S{name}"))
+        connectors.append(
+            Connector(
+                f"c{name}", f"P{name}", f"S{name}", "axial", guided="x", law="regularized-coulomb",
+                law_params={"k": k_stick, "mu": mu}, vertical_stiffness=kv,
+            )
+        )
+        supports.append(Support(f"P{name}"))
+    return Model(
+        nodes, connectors=connectors, rigid_links=links, supports=supports,
+        masses=[NodalMass("CG", BLOCK_MASS, iyy=BLOCK_INERTIA)],
+    )
+
+
+#: The test-only laws above, registered by :func:`registry_with_test_laws`.
+TEST_LAWS = (LyingSpring, BrittleSpring, StepLimitedSpring, GrumpySpring)
+
+
+@contextlib.contextmanager
+def registry_with_test_laws(module_name: str = "bearingfw_transient_test_plugin"):
+    """The installed plugins plus a test plugin (module ``module_name``) registering :data:`TEST_LAWS`."""
+    module = types.ModuleType(module_name)
+
+    @bearingfw.hookimpl
+    def bearingfw_register_laws():
+        return list(TEST_LAWS)
+
+    module.bearingfw_register_laws = bearingfw_register_laws
+    sys.modules[module_name] = module
+    eps = list(metadata.entry_points(group="bearingfw"))
+    eps.append(metadata.EntryPoint(name="transient-test-laws", value=module_name, group="bearingfw"))
+    try:
+        yield load_registry(eps)
+    finally:
+        sys.modules.pop(module_name, None)

@@ -1,6 +1,8 @@
 """Viscous damping of the transient analysis: Rayleigh's mass- and stiffness-proportional model.
 
-``C = alpha M + beta K`` on the free DOFs. The modal damping ratio at circular frequency
+``C = alpha M + beta K`` on the free DOFs. (Rayleigh's ``alpha`` and ``beta``, as the paper names
+them, are unrelated to the HHT-alpha integration parameter ``TransientSettings.alpha`` and to
+Newmark's ``beta``; the time stepper calls the Rayleigh pair ``a0``, ``a1``.) The modal damping ratio at circular frequency
 ``omega`` is ``zeta = alpha / (2 omega) + beta omega / 2``; two (frequency, ratio) pairs fix the
 two coefficients (:func:`rayleigh_from_ratios`), e.g. the paper's 2.1 % at 1.50 Hz and 2.7 % at
 3.36 Hz give ``alpha = 0.21 1/s`` and ``beta = 0.00208 s``. A measured free decay gives the ratio
@@ -29,7 +31,6 @@ from __future__ import annotations
 import math
 
 import attrs
-import scipy.sparse as sp
 
 from bearingfw.parameters import ParameterError, parameter
 
@@ -80,10 +81,16 @@ def rayleigh_from_ratios(f1: float, zeta1: float, f2: float, zeta2: float) -> tu
 
 @attrs.frozen
 class Rayleigh:
-    """Rayleigh damping ``C = alpha M + beta K_free`` (see the module docstring for which ``K``)."""
+    """Rayleigh damping ``C = alpha M + beta K_free`` (see the module docstring for which ``K``).
 
-    alpha: float = parameter(low=0.0, default=0.0, unit="1/s", doc="mass-proportional coefficient")
-    beta: float = parameter(low=0.0, default=0.0, unit="s", doc="stiffness-proportional coefficient (linear structure)")
+    ``alpha`` (1/s) multiplies the mass, ``beta`` (s) the stiffness: the paper's names, not the
+    HHT-alpha of :class:`~bearingfw.analysis.TransientSettings` nor Newmark's beta.
+    """
+
+    alpha: float = parameter(low=0.0, default=0.0, unit="1/s", doc="Rayleigh mass-proportional coefficient (not HHT's alpha)")
+    beta: float = parameter(
+        low=0.0, default=0.0, unit="s", doc="Rayleigh stiffness-proportional coefficient, linear structure (not Newmark's beta)"
+    )
 
     @classmethod
     def from_ratios(cls, f1: float, zeta1: float, f2: float, zeta2: float) -> Rayleigh:
@@ -94,7 +101,3 @@ class Rayleigh:
         """Damping ratio of a mode at ``frequency`` Hz whose stiffness is all in ``K_free``."""
         w = 2.0 * math.pi * frequency
         return self.alpha / (2.0 * w) + self.beta * w / 2.0
-
-    def matrix(self, M: sp.spmatrix, K: sp.spmatrix) -> sp.csr_matrix:
-        """``alpha M + beta K`` (free DOFs)."""
-        return (self.alpha * M + self.beta * K).tocsr()

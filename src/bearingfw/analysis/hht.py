@@ -6,8 +6,9 @@ Equation of motion on the free DOFs, measured from the preload (``x = q - q_0``,
     M a + C v + K x + B^T phi(d, N) = F(t),    d = d_0 + B x,  N = N_0 - kv (V x),  phi = f - f_0
 
 ``f`` the law forces, ``f_0`` their preload values, ``d`` the displacement the laws see (``d_0``:
-the preload's ``B q_0 - law_reference``, zero for bearings set after the dead load). HHT-alpha (``-1/3 <= alpha <= 0``) with
-``gamma = 1/2 - alpha``, ``beta = (1 - alpha)^2 / 4``, ``c = 1 + alpha`` enforces::
+the preload's ``B q_0 - law_reference``, zero for bearings set after the dead load). HHT-alpha
+(``-1/3 <= alpha <= 0``; this ``alpha`` is the scheme's, not Rayleigh's mass coefficient ``a0``)
+with ``gamma = 1/2 - alpha``, ``beta = (1 - alpha)^2 / 4``, ``c = 1 + alpha`` enforces::
 
     M a_{n+1} + c G_{n+1} - alpha G_n = 0,    G = C v + K x + B^T phi - F
 
@@ -19,7 +20,8 @@ with Newmark's updates ``x_{n+1} = xt + beta h^2 a_{n+1}``, ``v_{n+1} = vt + gam
     r = M (xt / (beta h^2) + c a0 w + alpha a0 v_n) + K (c a1 w + alpha a1 v_n + alpha x_n)
         + alpha B^T phi_n + c F_{n+1} - alpha F_n,        w = gamma / (beta h) xt - vt
 
-(``C = a0 M + a1 K``). ``A`` is constant for a step size ``h``: it is factorised once per ``h``.
+(``C = a0 M + a1 K``, Rayleigh). ``A`` is constant for a step size ``h``: it is factorised once per
+``h`` (:func:`factor`).
 
 Fast path (static condensation onto the ``m`` governed bearing directions): with
 ``W = A^{-1} B^T`` (n x m), ``S = B W`` (m x m) and ``x_lin = A^{-1} r`` (one back-substitution),
@@ -30,16 +32,31 @@ Fast path (static condensation onto the ``m`` governed bearing directions): with
 by Newton (``K_t`` the laws' block-diagonal consistent tangent). The normal forces follow
 ``N = N_lin + c kv (V W) phi``, evaluated for the next iterate with ``phi`` linearised there
 (``phi - K_t delta``); the laws give no ``dphi/dN``, so their dependence on ``N`` lags one
-iteration and the change of ``N`` is part of the convergence test. After convergence ``x = x_lin - c W phi`` (one dense
-n x m product). General path (for checking): Newton on ``x`` with the full tangent
-``A + c B^T K_t B``, refactorised every iteration. Both solve the same equations.
+iteration and the change of ``N`` is part of the convergence test. After convergence
+``x = x_lin - c W phi`` (one dense n x m product). ``B`` and ``V`` act as one stacked operator
+(``[B; V] x``, ``[S; kv V W]``): one product gives both. General path (for checking): Newton on
+``x`` with the full tangent ``A + c B^T K_t B``, refactorised every iteration. Both solve the same
+equations.
 
-Convergence (every iteration, both paths): the force residual (general: ``|A x + c B^T phi - r|``;
-fast: its linearisation ``c |K_t g|``) within ``tol_force`` of the step's force scale (the largest
-of the dynamic load, the law forces and a floor of 1e-6 of the dead load), the Newton correction of
-the bearing displacements within ``tol_displacement`` of their motion (since the preload and in
-this step), and (fast path) the change of ``N`` within ``tol_force`` of ``max |N|``. Each test
-allows a few hundred ulps of round-off of the quantities it compares.
+Line search (both paths): a friction bearing's tangent jumps between the stick stiffness and zero
+(sliding), so a full Newton correction computed in one regime overshoots into the other and the
+iterates can alternate between two states forever. Each correction is therefore backtracked
+(halved, at most ``BACKTRACKS`` times) until the residual norm falls by Armijo's factor
+``1 - 1e-4 lambda`` (fast: ``|g|``; general: ``|A x + c B^T phi - r|``); a full step that
+already decreases it, or lands at round-off level, is taken as is, so smooth problems keep
+Newton's quadratic convergence at no extra cost. If no trial decreases it, the best one is taken
+(and step halving in the time loop is the remedy of last resort).
+
+Convergence (every iteration, both paths): the Newton correction of the bearing displacements
+within ``tol_displacement`` of their motion (since the preload and in this step); the force
+residual within ``tol_force`` of the step's force scale (the largest of the dynamic load, the law
+forces and a floor of 1e-6 of the dead load), general: ``|A x + c B^T phi - r|``, fast: its
+linearisation ``c |K_t g|``; and (fast path) the change of ``N`` within ``tol_force`` of
+``max |N|``. The linearised force test is blind to directions with a zero tangent (a sliding
+bearing): there the displacement test is the one that decides. Each test allows a few hundred
+ulps of round-off of the quantities it compares. A failed fast-path step reports the true force
+residual of its last iterate, ``c |B^T (phi(d - g) - phi(d))|`` (that of ``x = x_lin - c W phi(d)``,
+one extra law call).
 """
 
 from __future__ import annotations
@@ -49,20 +66,38 @@ from collections.abc import Callable
 import attrs
 import numpy as np
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from bearingfw.analysis.energy import Energy, advance_energy
-from bearingfw.analysis.static import factorize
+from bearingfw.analysis.static import PIVOT_RATIO, factorize
 from bearingfw.model import ConnectorOperators, ModelError
 
-__all__ = ["Scheme", "Products", "Problem", "Operator", "State", "StepFailure", "build_operator", "step"]
+__all__ = [
+    "Scheme",
+    "Products",
+    "Problem",
+    "Operator",
+    "State",
+    "initial_state",
+    "StepFailure",
+    "effective_matrix",
+    "factor",
+    "build_operator",
+    "step",
+    "BACKTRACKS",
+]
 
 #: Round-off allowance of the convergence tests, in units of the compared quantities' size.
 _ROUND = 256 * np.finfo(float).eps
+#: Halvings of a Newton correction the line search tries before taking its best trial.
+BACKTRACKS = 10
+#: Armijo's sufficient decrease: a trial of length ``lam`` must cut the residual norm by ``_ARMIJO lam``.
+_ARMIJO = 1e-4
 
 
 @attrs.frozen
 class Scheme:
-    """HHT-alpha parameters (``alpha = 0``: Newmark's average acceleration)."""
+    """HHT-alpha parameters (``alpha = 0``: Newmark's average acceleration; not Rayleigh's alpha)."""
 
     alpha: float
 
@@ -82,17 +117,19 @@ DENSE_BELOW = 200
 
 @attrs.frozen(eq=False)
 class Products:
-    """``M``, ``K``, ``B``, ``B^T``, ``V`` for the per-step products (dense copies for small models)."""
+    """``M``, ``K``, ``B``, ``B^T``, ``V`` and the stacked ``[B; V]`` for the per-step products
+    (dense copies for small models)."""
 
     M: object
     K: object
     B: object
     Bt: object
     V: object
+    BV: object
 
     @classmethod
     def of(cls, M, K, B, Bt, V) -> Products:
-        mats = (M, K, B, Bt, V)
+        mats = (M, K, B, Bt, V, sp.vstack([B, V]).tocsr())
         if M.shape[0] < DENSE_BELOW:
             mats = tuple(np.asarray(A.toarray()) for A in mats)
         return cls(*mats)
@@ -108,8 +145,8 @@ class Problem:
     Bt: sp.csr_matrix
     V: sp.csr_matrix
     kv: np.ndarray
-    a0: float  # Rayleigh mass coefficient
-    a1: float  # Rayleigh stiffness coefficient
+    a0: float  # Rayleigh mass coefficient (Rayleigh's "alpha", 1/s)
+    a1: float  # Rayleigh stiffness coefficient (Rayleigh's "beta", s)
     scheme: Scheme
     ops: ConnectorOperators
     d0: np.ndarray  # preload law displacements (what the laws see: B q_0 - law_reference)
@@ -121,9 +158,11 @@ class Problem:
     max_iterations: int
     fast: bool
     mul: Products = attrs.field(init=False)
+    d0_size: float = attrs.field(init=False)  # max |d_0|, part of the round-off allowances
 
     def __attrs_post_init__(self):
         object.__setattr__(self, "mul", Products.of(self.M, self.K, self.B, self.Bt, self.V))
+        object.__setattr__(self, "d0_size", _inf(self.d0))
 
     @property
     def m(self) -> int:
@@ -132,43 +171,90 @@ class Problem:
     def normal_forces(self, x: np.ndarray) -> np.ndarray:
         return self.N0 - self.kv * (self.mul.V @ x)
 
+    def bearings(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(d, N)`` at ``x``: the law displacements and normal forces, from one ``[B; V]`` product."""
+        dv = self.mul.BV @ x
+        return self.d0 + dv[: self.m], self.N0 - self.kv * dv[self.m :]
+
     def damping_force(self, Mv: np.ndarray, Kv: np.ndarray) -> np.ndarray:
         return self.a0 * Mv + self.a1 * Kv
 
 
+def effective_matrix(M, K, a0: float, a1: float, scheme: Scheme, h: float) -> sp.csc_matrix:
+    """``A = M / (beta h^2) + c gamma / (beta h) C + c K`` with ``C = a0 M + a1 K`` (module docstring)."""
+    c = 1.0 + scheme.alpha
+    cm = 1.0 / (scheme.beta * h * h)
+    cd = c * scheme.gamma / (scheme.beta * h)
+    return ((cm + cd * a0) * M + (c + cd * a1) * K).tocsc()
+
+
+def factor(A):
+    """LU factors of an effective matrix, ordered by minimum degree on ``A^T + A``.
+
+    ``A`` is symmetric: that ordering leaves about a quarter fewer fill-ins than SuperLU's default
+    (COLAMD) on bridge models and makes every back-substitution, the dominant cost of a fast-path
+    step, about 30 % faster; the results differ by round-off only. A failed or (nearly) singular
+    factorisation falls back to the kernel's :func:`~bearingfw.analysis.factorize`, which raises
+    its mechanism error naming the DOFs that move.
+    """
+    A = A.tocsc()
+    try:
+        lu = spla.splu(A, permc_spec="MMD_AT_PLUS_A")
+    except RuntimeError:
+        return factorize(A)
+    pivots = np.abs(lu.U.diagonal())
+    if pivots.size and pivots.min() >= PIVOT_RATIO * pivots.max():
+        return lu
+    return factorize(A)
+
+
 @attrs.frozen(eq=False)
 class Operator:
-    """What depends on the step size ``h`` only: the factors of ``A`` and, on the fast path, the
-    condensation scaled by ``c = 1 + alpha``: ``cW = c A^{-1} B^T``, ``cS = B cW``, ``cNW = c kv (V W)``
-    (the change of ``N`` per unit law force)."""
+    """What depends on the step size ``h`` only: the factors of ``A`` (``A`` itself on the general
+    path only, which needs it for its residual) and, on the fast path, the condensation scaled by
+    ``c = 1 + alpha``: ``cW = c A^{-1} B^T``, and stacked ``cSN = [B cW; kv (V cW)]``, whose rows are
+    ``cS`` (m) and ``cNW`` (the change of ``N`` per unit law force)."""
 
     h: float
-    A: sp.csc_matrix
+    A: sp.csc_matrix | None
     solve: Callable[[np.ndarray], np.ndarray]
     cW: np.ndarray | None
-    cS: np.ndarray | None
-    cNW: np.ndarray | None
+    cSN: np.ndarray | None
+    m: int = 0
+
+    @property
+    def cS(self) -> np.ndarray | None:
+        return None if self.cSN is None else self.cSN[: self.m]
+
+    @property
+    def cNW(self) -> np.ndarray | None:
+        return None if self.cSN is None else self.cSN[self.m :]
 
 
 def build_operator(p: Problem, h: float) -> Operator:
     """Factorise ``A`` for step ``h`` (and, on the fast path, condense it onto the bearings)."""
-    s = p.scheme
-    c = 1.0 + s.alpha
-    cm = 1.0 / (s.beta * h * h)
-    cd = c * s.gamma / (s.beta * h)
-    A = ((cm + cd * p.a0) * p.M + (c + cd * p.a1) * p.K).tocsc()
-    lu = factorize(A)
-    cW = cS = cNW = None
+    c = 1.0 + p.scheme.alpha
+    A = effective_matrix(p.M, p.K, p.a0, p.a1, p.scheme, h)
+    lu = factor(A)
+    cW = cSN = None
     if p.fast and p.m:
         cW = c * lu.solve(p.Bt.toarray())
-        cS = np.asarray(p.mul.B @ cW)
-        cNW = p.kv[:, None] * np.asarray(p.mul.V @ cW)
-    return Operator(h, A, lu.solve, cW, cS, cNW)
+        cSN = np.asarray(p.mul.BV @ cW)
+        cSN[p.m :] *= p.kv[:, None]
+    return Operator(h, None if p.fast else A, lu.solve, cW, cSN, p.m)
 
 
 @attrs.frozen(eq=False)
 class State:
-    """A committed instant: kinematics (from the preload), bearing quantities, the load and energy."""
+    """A committed instant: kinematics (from the preload), bearing quantities, the load and energy.
+
+    ``ae``: the acceleration whose inertia HHT's alpha-weighted equilibrium balances at this
+    instant, ``ae_{n+1} = (a_{n+1} + alpha ae_n) / (1 + alpha)`` (``= a`` for ``alpha = 0``): with it
+    ``M ae + G = 0`` holds exactly, so constraint forces recovered from it are those of the
+    equations the scheme solved. ``G`` (``C v + K x + B^T phi - F``) and ``rho`` (the scheme's
+    out-of-balance force ``M a + G = -alpha (G_n - G_{n-1})``) feed the energy balance's
+    numerical-dissipation term (:mod:`bearingfw.analysis.energy`).
+    """
 
     t: float
     x: np.ndarray
@@ -182,6 +268,24 @@ class State:
     Mv: np.ndarray
     Kv: np.ndarray
     energy: Energy
+    Cv: np.ndarray  # damping force
+    Ma: np.ndarray
+    Bt_phi: np.ndarray  # B^T (f - f_0)
+    G: np.ndarray
+    rho: np.ndarray
+    ae: np.ndarray
+
+
+def initial_state(p: Problem, law_states: tuple, load0: np.ndarray, a0: np.ndarray) -> State:
+    """The preload at rest (``x = v = 0``) with start acceleration ``a0`` under the dynamic load ``load0``."""
+    n = p.M.shape[0]
+    zero = np.zeros(n)
+    return State(
+        t=0.0, x=zero, v=zero, a=a0, f=p.f0, d=p.d0, N=p.N0, law_states=law_states, load=load0,
+        Mv=zero, Kv=zero, energy=Energy(), Cv=zero, Ma=p.mul.M @ a0, Bt_phi=zero, G=-load0,
+        rho=zero,  # the scheme takes the start as balanced: any misfit of a0 counts as error
+        ae=a0,
+    )
 
 
 class StepFailure(Exception):
@@ -211,7 +315,7 @@ def effective_rhs(p: Problem, s: State, h: float, load1: np.ndarray):
     if al:
         r = r - al * s.load
         if p.m:
-            r = r + al * (p.mul.Bt @ (s.f - p.f0))
+            r = r + al * s.Bt_phi
     return r, xt, vt
 
 
@@ -249,111 +353,222 @@ def _times_tangent(matrix: np.ndarray, blocks) -> np.ndarray:
     return out
 
 
+def _line_search(trial_at: Callable[[float], object], current) -> tuple[object, int]:
+    """Backtrack along a Newton correction: ``trial_at(lam)`` evaluates the iterate moved by ``lam``
+    times the full correction from ``current``; returns the accepted trial and the halvings made.
+
+    A trial is accepted when its residual norm ``.merit`` falls by Armijo's factor, or when it is
+    at round-off level (``.tiny``); a non-finite trial is returned at once (the caller reports it).
+    If none of the ``BACKTRACKS + 1`` trials is accepted, the one with the smallest residual is.
+    """
+    best, lam = None, 1.0
+    for k in range(BACKTRACKS + 1):
+        trial = trial_at(lam)
+        if not trial.finite or trial.tiny or trial.merit <= (1.0 - _ARMIJO * lam) * current.merit:
+            return trial, k
+        if best is None or trial.merit < best.merit:
+            best = trial
+        lam *= 0.5
+    return best, BACKTRACKS
+
+
+@attrs.define(eq=False)
+class _FastTrial:
+    """An iterate of the fast path and what the laws say there."""
+
+    d: np.ndarray
+    N: np.ndarray
+    responses: list
+    f: np.ndarray
+    phi: np.ndarray
+    blocks: list
+    g: np.ndarray  # d - d_lin + c S phi
+    N_new: np.ndarray  # N_lin + c kv (V W) phi: the normal forces these law forces imply
+    merit: float  # |g|
+    tiny: bool  # |g| at round-off level
+    finite: bool  # the law forces (they reach every entry of c S phi) and tangents
+
+
+def _stiffness(blocks) -> float:
+    return max((_inf(t) for _, t in blocks), default=0.0)
+
+
 def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, force_scale: float):
     x_lin = op.solve(r)
     if not p.m:
-        return x_lin, s.f, s.d, p.normal_forces(x_lin), s.law_states, 0
-    d_lin = p.d0 + p.mul.B @ x_lin
-    N_lin = p.normal_forces(x_lin)
-    # Predictor: the law forces of the last step held.
-    phi = s.f - p.f0
-    d = d_lin - op.cS @ phi
-    N = N_lin + op.cNW @ phi
+        return x_lin, s.f, s.d, p.bearings(x_lin)[1], s.law_states, 0, 0
+    d_lin, N_lin = p.bearings(x_lin)
     c = 1.0 + p.scheme.alpha
-    eye = np.eye(p.m)
-    delta = np.zeros(p.m)
-    f_err = np.inf
-    size = max(_inf(d_lin), _inf(p.d0))
-    for it in range(1, p.max_iterations + 1):
+    size = max(_inf(d_lin), p.d0_size)
+    n_round = _ROUND * _inf(N_lin)
+    m = p.m
+
+    def evaluate(d: np.ndarray, N: np.ndarray) -> _FastTrial:
         responses = p.ops.respond(s.law_states, d, N, h)
         f = p.ops.forces(responses)
         blocks = _blocks(p, responses)
         phi = f - p.f0
-        g = d - d_lin + op.cS @ phi
-        N_new = N_lin + op.cNW @ phi
-        if not _finite(f, g, N_new, *(t for _, t in blocks)):
-            raise StepFailure("a law returned a non-finite force or tangent", np.inf, ~np.isfinite(f), it)
+        sn = op.cSN @ phi  # c S phi and the normal forces' change, one product
+        g = d - d_lin + sn[:m]
+        merit = float(np.linalg.norm(g))
+        finite = _finite(sn, *(t for _, t in blocks))
+        return _FastTrial(d, N, responses, f, phi, blocks, g, N_lin + sn[m:], merit, merit <= _ROUND * size, finite)
+
+    # Predictor: the law forces of the last step held.
+    phi = s.f - p.f0
+    sn = op.cSN @ phi
+    trial = evaluate(d_lin - sn[:m], N_lin + sn[m:])
+    eye = np.eye(m)
+    delta = np.zeros(m)
+    backtracks = 0
+    for it in range(1, p.max_iterations + 1):
+        if not trial.finite:
+            raise StepFailure("a law returned a non-finite force or tangent", np.inf, ~np.isfinite(trial.f), it)
         try:
-            delta = np.linalg.solve(eye + _times_tangent(op.cS, blocks), g)
+            delta = np.linalg.solve(eye + _times_tangent(op.cS, trial.blocks), trial.g)
         except np.linalg.LinAlgError:
-            raise StepFailure("singular condensed Jacobian", np.inf, np.abs(g), it) from None
-        # Force residual: the linearisation c K_t g of c B^T (phi(B x) - phi(d)).
-        stiff = max((_inf(t) for _, t in blocks), default=0.0)
-        f_err = c * _inf(_tangent_times(blocks, g))
-        f_ok = f_err <= p.tol_force * max(force_scale, _inf(f)) + _ROUND * c * stiff * size
-        d_ok = _inf(delta) <= p.tol_displacement * max(_inf(d - s.d), _inf(d - p.d0)) + _ROUND * size
-        n_ok = _inf(N_new - N) <= p.tol_force * max(_inf(N), _inf(N_new)) + _ROUND * _inf(N_lin)
-        if f_ok and d_ok and n_ok:
-            return x_lin - op.cW @ phi, f, d, N, tuple(rr.state for rr in responses), it
-        d = d - delta
+            raise StepFailure("singular condensed Jacobian", np.inf, np.abs(trial.g), it) from None
+        d, N, f = trial.d, trial.N, trial.f
+        converged = (  # cheapest and most often failing test first
+            _inf(delta) <= p.tol_displacement * max(_inf(d - s.d), _inf(d - p.d0)) + _ROUND * size
+            and _inf(trial.N_new - N) <= p.tol_force * max(_inf(N), _inf(trial.N_new)) + n_round
+            # force residual: the linearisation c K_t g of c B^T (phi(B x) - phi(d))
+            and c * _inf(_tangent_times(trial.blocks, trial.g))
+            <= p.tol_force * max(force_scale, _inf(f)) + _ROUND * c * _stiffness(trial.blocks) * size
+        )
+        if converged:
+            return x_lin - op.cW @ trial.phi, f, d, N, tuple(rr.state for rr in trial.responses), it, backtracks
         # N for the next iterate from the law forces linearised there (exact for linear laws, so
         # they converge in two evaluations); the laws' own dependence on N lags one iteration.
-        N = N_lin + op.cNW @ (phi - _tangent_times(blocks, delta))
-    raise StepFailure("no convergence", f_err / max(force_scale, 1e-300), np.abs(delta), p.max_iterations)
+        dN = op.cNW @ _tangent_times(trial.blocks, delta)
+        base = trial
+
+        def trial_at(lam: float, base=base, delta=delta, dN=dN) -> _FastTrial:
+            return evaluate(base.d - lam * delta, base.N_new - lam * dN)
+
+        trial, k = _line_search(trial_at, base)
+        backtracks += k
+    if not trial.finite:
+        raise StepFailure("a law returned a non-finite force or tangent", np.inf, ~np.isfinite(trial.f), p.max_iterations)
+    raise StepFailure("no convergence", _fast_residual(p, s, h, trial) / force_scale, np.abs(delta), p.max_iterations)
+
+
+def _fast_residual(p: Problem, s: State, h: float, trial: _FastTrial) -> float:
+    """The true force residual of the fast path's iterate (one extra law call; for reporting).
+
+    ``x = x_lin - c W phi(d)`` has law displacements ``d - g`` and normal forces ``N_new``; its
+    residual ``A x + c B^T phi(B x) - r`` is ``c B^T (phi(d - g) - phi(d))``.
+    """
+    responses = p.ops.respond(s.law_states, trial.d - trial.g, trial.N_new, h)
+    phi = p.ops.forces(responses) - p.f0
+    residual = (1.0 + p.scheme.alpha) * _inf(p.mul.Bt @ (phi - trial.phi))
+    return residual if np.isfinite(residual) else np.inf
+
+
+@attrs.define(eq=False)
+class _GeneralTrial:
+    x: np.ndarray
+    d: np.ndarray
+    N: np.ndarray
+    responses: list
+    f: np.ndarray
+    Bt_phi: np.ndarray
+    R: np.ndarray  # A x + c B^T phi - r
+    merit: float
+    tiny: bool
+    finite: bool
 
 
 def _solve_general(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, force_scale: float):
     c = 1.0 + p.scheme.alpha
     if not p.m:
         x = op.solve(r)
-        return x, s.f, s.d, p.normal_forces(x), s.law_states, 0
-    x = op.solve(r - c * (p.mul.Bt @ (s.f - p.f0)))  # predictor: the law forces of the last step held
-    delta = np.zeros(p.m)
-    f_err = np.inf
-    for it in range(1, p.max_iterations + 1):
-        d = p.d0 + p.mul.B @ x
-        N = p.normal_forces(x)
+        return x, s.f, s.d, p.bearings(x)[1], s.law_states, 0, 0
+
+    def evaluate(x: np.ndarray) -> _GeneralTrial:
+        d, N = p.bearings(x)
         responses = p.ops.respond(s.law_states, d, N, h)
         f = p.ops.forces(responses)
-        Kt = p.ops.tangent(responses)
-        if not _finite(f, Kt.data):
-            raise StepFailure("a law returned a non-finite force or tangent", np.inf, ~np.isfinite(f), it)
         Bt_phi = p.mul.Bt @ (f - p.f0)
         R = op.A @ x + c * Bt_phi - r
+        tiny = _inf(R) <= _ROUND * max(_inf(r), c * _inf(Bt_phi))
+        finite = _finite(f, R, *(np.asarray(rr.tangent) for rr in responses))
+        return _GeneralTrial(x, d, N, responses, f, Bt_phi, R, float(np.linalg.norm(R)), tiny, finite)
+
+    trial = evaluate(op.solve(r - c * s.Bt_phi))  # predictor: the law forces of the last step held
+    delta = np.zeros(p.m)
+    backtracks = 0
+    for it in range(1, p.max_iterations + 1):
+        if not trial.finite:
+            raise StepFailure("a law returned a non-finite force or tangent", np.inf, ~np.isfinite(trial.f), it)
+        Kt = p.ops.tangent(trial.responses)
         try:
-            dx = -factorize(op.A + c * (p.Bt @ Kt @ p.B)).solve(R)
-        except (ModelError, RuntimeError):  # a singular tangent
-            raise StepFailure("singular tangent matrix", np.inf, np.ones(p.m), it) from None
+            dx = -factor(op.A + c * (p.Bt @ Kt @ p.B)).solve(trial.R)
+        except (ModelError, RuntimeError):  # a singular tangent: name the bearings most out of balance
+            raise StepFailure("singular tangent matrix", np.inf, np.abs(p.mul.B @ trial.R), it) from None
         delta = p.mul.B @ dx
-        f_err = _inf(R)
-        f_ok = f_err <= p.tol_force * max(force_scale, _inf(f)) + _ROUND * max(_inf(r), c * _inf(Bt_phi))
-        d_ok = _inf(delta) <= p.tol_displacement * max(_inf(d - s.d), _inf(d - p.d0)) + _ROUND * _inf(d)
-        if f_ok and d_ok:
-            return x, f, d, N, tuple(rr.state for rr in responses), it
-        x = x + dx
-    raise StepFailure("no convergence", f_err / max(force_scale, 1e-300), np.abs(delta), p.max_iterations)
+        d, f = trial.d, trial.f
+        converged = (
+            _inf(delta) <= p.tol_displacement * max(_inf(d - s.d), _inf(d - p.d0)) + _ROUND * _inf(d)
+            and _inf(trial.R) <= p.tol_force * max(force_scale, _inf(f)) + _ROUND * max(_inf(r), c * _inf(trial.Bt_phi))
+        )
+        if converged:
+            return trial.x, f, d, trial.N, tuple(rr.state for rr in trial.responses), it, backtracks
+        base = trial
+        trial, k = _line_search(lambda lam, base=base, dx=dx: evaluate(base.x + lam * dx), base)
+        backtracks += k
+    if not trial.finite:
+        raise StepFailure("a law returned a non-finite force or tangent", np.inf, ~np.isfinite(trial.f), p.max_iterations)
+    raise StepFailure("no convergence", _inf(trial.R) / force_scale, np.abs(delta), p.max_iterations)
 
 
-def step(p: Problem, op: Operator, s: State, t1: float, load1: np.ndarray) -> tuple[State, int]:
-    """Advance ``s`` by ``op.h`` to time ``t1`` and dynamic load ``load1``: the new state and the Newton iterations.
+def step(p: Problem, op: Operator, s: State, t1: float, load1: np.ndarray) -> tuple[State, int, int]:
+    """Advance ``s`` by ``op.h`` to time ``t1`` and dynamic load ``load1``.
 
-    Raises :class:`StepFailure` when Newton does not converge.
+    Returns the new state, the Newton iterations and the line-search halvings. Raises
+    :class:`StepFailure` when Newton does not converge.
     """
     h = op.h
     sch = p.scheme
+    al = sch.alpha
     r, xt, vt = effective_rhs(p, s, h, load1)
     force_scale = max(_inf(load1), _inf(s.f), p.force_floor)
     solver = _solve_fast if p.fast else _solve_general
-    x, f, d, N, law_states, iterations = solver(p, op, s, r, h, force_scale)
+    x, f, d, N, law_states, iterations, backtracks = solver(p, op, s, r, h, force_scale)
     if not _finite(x):
         raise StepFailure("non-finite displacements", np.inf, np.ones(p.m), iterations)
     a = (x - xt) / (sch.beta * h * h)
     v = vt + (sch.gamma * h) * a
-    Mv = p.mul.M @ v
-    Kv = p.mul.K @ v if p.a1 else s.Kv
+    Mva = p.mul.M @ np.column_stack((v, a))  # one product for both
+    Mv, Ma = Mva[:, 0], Mva[:, 1]
+    if p.a1:
+        Kxv = p.mul.K @ np.column_stack((x, v))
+        Kx, Kv = Kxv[:, 0], Kxv[:, 1]
+    else:
+        Kx, Kv = p.mul.K @ x, s.Kv
+    Bt_phi = p.mul.Bt @ (f - p.f0) if p.m else s.Bt_phi
+    damping1 = p.damping_force(Mv, Kv)
+    G = damping1 + Kx + Bt_phi - load1
+    rho = -al * (G - s.G)  # what the scheme leaves out of balance at t_{n+1}: M a + G = -alpha (G - G_n)
     energy = advance_energy(
         s.energy,
         dx=x - s.x,
         v1=v,
         Mv1=Mv,
         x1=x,
-        Kx1=p.mul.K @ x,
-        damping0=p.damping_force(s.Mv, s.Kv),
-        damping1=p.damping_force(Mv, Kv),
+        Kx1=Kx,
+        damping0=s.Cv,
+        damping1=damping1,
         dd=p.mul.B @ (x - s.x),
         bearing0=s.f - p.f0,
         bearing1=f - p.f0,
         load0=s.load,
         load1=load1,
+        Ma0=s.Ma,
+        Ma1=Ma,
+        rho0=s.rho,
+        rho1=rho,
     )
-    return State(t1, x, v, a, f, d, N, law_states, load1, Mv, Kv, energy), iterations
+    ae = (a + al * s.ae) / (1.0 + al) if al else a
+    state = State(t1, x, v, a, f, d, N, law_states, load1, Mv, Kv, energy, damping1, Ma, Bt_phi, G, rho, ae)
+    return state, iterations, backtracks

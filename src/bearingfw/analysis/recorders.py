@@ -12,31 +12,36 @@ ElementStress          ``<name>.<element>``: maximum principal stress (Pa), (t, 
 ElementForces          ``<name>``: section forces, (t, elements, 2 ends, 6: N Vy Vz T My Mz)
 ConnectorResponse      ``<name>.force`` (t, c, 3) local x, y, z forces resisting the relative
                        displacement; ``.displacement`` (t, c, 3) relative displacement
-                       ``R (u_j - u_i)``; ``.normal_force`` (t, c) compression > 0; ``.slip``
-                       (t, c, 3) the law state's ``"slip"`` in its directions (NaN when the law
-                       keeps none); ``.friction_ratio`` (t, c) ``|F_law| / N``, the force in the
-                       law's directions (not a guide's or a tie's reaction) over ``N`` (NaN when
-                       ``N <= 0`` or the connector has no law)
+                       ``R (u_j - u_i)`` (total: the dead-load part included);
+                       ``.law_displacement`` (t, c, 3) what the law sees, ``B u - law_reference``
+                       (zero at the preload for bearings set after the dead load: plot the
+                       hysteresis against this one), NaN outside the law's directions;
+                       ``.normal_force`` (t, c) compression > 0; ``.slip`` (t, c, 3) the law's
+                       ``slip(state)`` (the irreversible displacement, see the law protocol) in
+                       its directions, NaN for a law without ``slip``; ``.friction_ratio`` (t, c)
+                       ``|F_law| / N``, the force in the law's directions (not a guide's or a
+                       tie's reaction) over ``N`` (NaN when ``N <= 0`` or the connector has no law)
 NodalResponse          ``<name>``: (t, nodes, components) displacement, velocity or acceleration
 =====================  =====================================================================
 
 Totals: stresses, section forces and connector quantities are *total* (dead load + dynamic), as
-in the paper's figures. Nodal responses are relative by default: displacement from the preload
-(the dynamic part), velocity and acceleration relative to the ground; ``total=True`` gives the
-displacement including the dead-load deflection, and absolute (ground + relative) velocity and
-acceleration (what an accelerometer on the bridge measures).
+in the paper's figures. Nodal responses: see :class:`NodalResponse` for what ``total`` adds.
 
 Section forces are linear in the displacements, so a recorder reads the map from displacements
 to the section forces of its elements off the kernel's :func:`section_forces` once (one call per
 DOF those elements touch) and then costs one small sparse product per sample. Tied connector
 directions (JOIN, the guided direction's neighbour) carry constraint forces: a
 :class:`ConnectorResponse` that includes such a connector solves for the Lagrange multipliers of
-the dynamic residual at every sample.
+the dynamic residual at every sample (:meth:`Context.full_residual`: with HHT ``alpha < 0`` the
+residual of the alpha-weighted equilibrium the scheme solved, so that tie forces and reactions
+balance the structure exactly).
+
+Keys: a recorder's ``name`` has no ``.`` and is none of :data:`RESERVED_NAMES`, and recorders in one
+run have distinct names, so keys never clash; an :class:`ElementStress` refuses an element named
+``time`` (its key would be the recorder's sample times).
 """
 
 from __future__ import annotations
-
-from collections.abc import Mapping
 
 import attrs
 import numpy as np
@@ -82,6 +87,16 @@ def _check_names(instance, attribute, value):
         raise ParameterError(f"{type(instance).__name__}: field {attribute.name!r} names an item twice: {value!r}")
 
 
+def _check_key_names(instance, attribute, value):
+    """Names that become key suffixes (``<name>.<item>``) must not be the sample-times key ``time``."""
+    _check_names(instance, attribute, value)
+    if "time" in value:
+        raise ParameterError(
+            f"{type(instance).__name__}: field {attribute.name!r} names an item 'time', whose key "
+            f"'<name>.time' is the recorder's sample times; record it with ElementForces instead"
+        )
+
+
 def _check_label(instance, attribute, value):
     if value is None and attribute.default is None:
         return
@@ -92,10 +107,10 @@ def _check_label(instance, attribute, value):
         )
 
 
-def _names_field(*, optional: bool = False, doc: str = ""):
+def _names_field(*, optional: bool = False, doc: str = "", validator=_check_names):
     return attrs.field(
         default=None if optional else attrs.NOTHING, converter=attrs.converters.optional(_names),
-        validator=_check_names, metadata={"doc": doc},
+        validator=validator, metadata={"doc": doc},
     )
 
 
@@ -110,7 +125,12 @@ def _every_field():
 # ---- what probes read -----------------------------------------------------------------------
 @attrs.frozen(eq=False)
 class Snapshot:
-    """A committed instant as recorders see it (``x``, ``v``, ``a`` relative to the preload/ground)."""
+    """A committed instant as recorders see it (``x``, ``v``, ``a`` relative to the preload/ground).
+
+    ``d``: the law displacements (what the laws see, rows of ``B``; None: recorders compute it).
+    ``a_equilibrium``: the relative acceleration whose inertia HHT's alpha-weighted equilibrium
+    balances at ``t`` (:class:`bearingfw.analysis.hht.State`; None: ``a``, exact for ``alpha = 0``).
+    """
 
     t: float
     x: np.ndarray
@@ -121,6 +141,8 @@ class Snapshot:
     ground_acceleration: np.ndarray  # (3,)
     ground_velocity: np.ndarray  # (3,)
     nodal: np.ndarray | None  # full dynamic nodal loads
+    d: np.ndarray | None = None
+    a_equilibrium: np.ndarray | None = None
 
 
 @attrs.frozen(eq=False)
@@ -143,10 +165,21 @@ class Context:
 
     def full_residual(self, s: Snapshot) -> np.ndarray:
         """Dynamic part of the full-DOF residual (inertia with the ground acceleration, damping,
-        stiffness, laws, minus nodal loads): the constraint forces beyond the preload's."""
+        stiffness, laws, minus nodal loads): the constraint forces beyond the preload's.
+
+        HHT (``alpha < 0``) balances ``M a_{n+1} + (1 + alpha) G_{n+1} - alpha G_n`` (``G`` all but
+        the relative inertia; the constraint forces weighted like the other forces), not the
+        equilibrium at ``t_{n+1}``. Writing that as ``M ae_{n+1} + G_{n+1}`` with
+        ``ae_{n+1} = (a_{n+1} + alpha ae_n) / (1 + alpha)`` (``s.a_equilibrium``) makes the residual
+        one the constraint forces balance exactly: its multipliers ``lambda_{n+1}`` satisfy
+        ``(1 + alpha) lambda_{n+1} - alpha lambda_n = lambda_{n+alpha}``, those of the weighted
+        equation. (The residual with ``a_{n+1}`` is not in the range of ``C^T``; its least-squares
+        multipliers would mix in the free DOFs' out-of-balance force ``-alpha (G_{n+1} - G_n)``.)
+        """
         sys = self.system
         T = sys.T
-        acc = T @ s.a + self.excitation.R @ s.ground_acceleration
+        a = s.a if s.a_equilibrium is None else s.a_equilibrium
+        acc = T @ a + self.excitation.R @ s.ground_acceleration
         vel = T @ s.v
         r = sys.M @ (acc + self.a0 * vel) + sys.K @ (T @ s.x + self.a1 * vel)
         r = r + self._Bt @ (s.f - self.preload.law_forces)
@@ -198,7 +231,7 @@ class ElementStress:
     """Maximum principal stress at both ends of frame ``elements``, at the sections' recovery
     ``points`` (default: all of them; a section's points are set on :class:`~bearingfw.model.Section`)."""
 
-    elements: tuple[str, ...] = _names_field(doc="frame elements")
+    elements: tuple[str, ...] = _names_field(doc="frame elements (not one named 'time')", validator=_check_key_names)
     points: tuple[str, ...] | None = _names_field(optional=True, doc="recovery points (default all)")
     every: int = _every_field()
     name: str = _label_field("stress")
@@ -289,7 +322,8 @@ class _ForcesProbe(_Probe):
 # ---- connectors ---------------------------------------------------------------------------------
 @attrs.frozen
 class ConnectorResponse:
-    """Force, relative displacement, normal force, slip and friction ratio of ``connectors`` (default all)."""
+    """Force, relative and law displacement, normal force, slip and friction ratio of ``connectors``
+    (default all); see the module docstring for the arrays."""
 
     connectors: tuple[str, ...] | None = _names_field(optional=True, doc="connector names (default all)")
     every: int = _every_field()
@@ -317,14 +351,27 @@ class _ConnectorProbe(_Probe):
         self.D0 = ops.D[rows] @ ctx.preload.u
         tied = {c for c, _ in ops.ties}
         self.needs_multipliers = bool(tied & set(self.index.tolist()))
-        # slip: (group, member position, local directions) per selected connector
-        where = {}
+        # law quantities (rows of B, per group) -> (selected connector, local direction) slots
+        selected = {int(c): k for k, c in enumerate(self.index)}
+        self.governed = np.zeros((self.index.size, 3), dtype=bool)
+        self.slots: list[tuple[int, np.ndarray, np.ndarray, np.ndarray]] = []  # (group, members, rows, slot index)
         for gi, g in enumerate(ops.groups):
+            members, slot = [], []
             for pos, c in enumerate(g.connectors.tolist()):
-                where[c] = (gi, pos, model.connectors[c].law_directions)
-        self.where = [where.get(int(c)) for c in self.index]
+                if c in selected:
+                    dirs = model.connectors[c].law_directions
+                    members.append(pos)
+                    slot.append([3 * selected[c] + k for k in dirs])
+                    self.governed[selected[c], list(dirs)] = True
+            if members:
+                members = np.array(members, dtype=int)
+                rows_b = (g.rows.start + g.dims * members[:, None] + np.arange(g.dims)[None, :]).reshape(-1)
+                self.slots.append((gi, members, rows_b, np.array(slot, dtype=int).reshape(-1)))
+        self.laws = [g.law for g in ops.groups]
+        self.reference = np.asarray(ctx.preload.law_reference, dtype=float)
+        self.B = sys.B_free
         self.ctx = ctx
-        self.forces, self.disp, self.slip = [], [], []
+        self.forces, self.disp, self.law_disp, self.slip = [], [], [], []
 
     def _sample(self, s: Snapshot) -> None:
         ctx = self.ctx
@@ -336,39 +383,38 @@ class _ConnectorProbe(_Probe):
         forces, _ = recover_connector_forces(sys, u, s.f, lam)
         self.forces.append(forces[self.index])
         self.disp.append((self.D0 + self.D @ s.x).reshape(-1, 3))
-        slip = np.full((self.index.size, 3), np.nan)
-        for k, w in enumerate(self.where):
-            if w is None:
-                continue
-            gi, pos, dirs = w
-            state = s.law_states[gi]
-            if isinstance(state, Mapping) and "slip" in state:
-                slip[k] = 0.0
-                slip[k, list(dirs)] = np.asarray(state["slip"])[pos]
-        self.slip.append(slip)
+        d = (self.B @ (ctx.q0 + s.x) - self.reference) if s.d is None else s.d
+        law_disp = np.full(3 * self.index.size, np.nan)
+        slip = np.full(3 * self.index.size, np.nan)
+        for gi, members, rows_b, slot in self.slots:
+            law_disp[slot] = d[rows_b]
+            if hasattr(self.laws[gi], "slip"):  # optional protocol member: the irreversible displacement
+                slip[slot] = np.asarray(self.laws[gi].slip(s.law_states[gi]), dtype=float)[members].reshape(-1)
+        self.law_disp.append(law_disp.reshape(-1, 3))
+        self.slip.append(slip.reshape(-1, 3))
 
     def _finish(self):
         name = self.label
-        force = np.array(self.forces).reshape(-1, self.index.size, 3)
+        c = self.index.size
+        force = np.array(self.forces).reshape(-1, c, 3)
         N = normal_force(force[..., 2])
         # friction: the force in the law's directions only (a guided bearing's guide reaction and
         # a fixed bearing's tie forces are not friction)
-        governed = np.zeros((self.index.size, 3), dtype=bool)
-        for k, w in enumerate(self.where):
-            if w is not None:
-                governed[k, list(w[2])] = True
+        governed = self.governed
         friction = np.sqrt(np.sum(np.where(governed[None], force, 0.0) ** 2, axis=-1))
         with np.errstate(divide="ignore", invalid="ignore"):
             ratio = np.where((N > 0) & governed.any(axis=1)[None], friction / np.where(N > 0, N, 1.0), np.nan)
         data = {
             f"{name}.force": force,
-            f"{name}.displacement": np.array(self.disp).reshape(-1, self.index.size, 3),
+            f"{name}.displacement": np.array(self.disp).reshape(-1, c, 3),
+            f"{name}.law_displacement": np.array(self.law_disp).reshape(-1, c, 3),
             f"{name}.normal_force": N,
-            f"{name}.slip": np.array(self.slip).reshape(-1, self.index.size, 3),
+            f"{name}.slip": np.array(self.slip).reshape(-1, c, 3),
             f"{name}.friction_ratio": ratio,
         }
         meta = {"kind": "connector response", "connectors": list(self.names), "directions": ["x", "y", "z"],
-                "units": {"force": "N", "displacement": "m", "normal_force": "N", "slip": "m", "friction_ratio": "-"}}
+                "units": {"force": "N", "displacement": "m", "law_displacement": "m", "normal_force": "N",
+                          "slip": "m", "friction_ratio": "-"}}
         return data, meta
 
 
@@ -394,9 +440,25 @@ def _check_components(instance, attribute, value):
 class NodalResponse:
     """Displacement, velocity or acceleration of ``nodes`` (global components).
 
-    ``total=False``: displacement from the preload, velocity and acceleration relative to the
-    ground. ``total=True``: displacement including the dead-load deflection; absolute velocity and
-    acceleration (ground motion added to the translations).
+    The solver integrates the motion relative to the ground (every support moves with the same
+    ground motion), measured from the gravity preload. ``total`` adds what that leaves out, which
+    differs by quantity:
+
+    ============  ===========================================  =================================
+    quantity      ``total=False`` (default)                    ``total=True``
+    ============  ===========================================  =================================
+    displacement  dynamic part: from the preload, relative      plus the dead-load deflection;
+                  to the ground                                 still relative to the ground (the
+                                                                ground's own displacement is never
+                                                                integrated)
+    velocity      relative to the ground                        absolute: plus the ground velocity
+                                                                (translations; rotations unchanged)
+    acceleration  relative to the ground                        absolute: plus the ground
+                                                                acceleration (what an accelerometer
+                                                                on the bridge measures)
+    ============  ===========================================  =================================
+
+    The result's description (``TransientResult.recorders[name]["reference"]``) states which.
     """
 
     nodes: tuple[str, ...] = _names_field(doc="node names")
@@ -439,6 +501,14 @@ class _NodalProbe(_Probe):
     def _finish(self):
         spec = self.spec
         unit = {"displacement": "m, rad", "velocity": "m/s, rad/s", "acceleration": "m/s^2, rad/s^2"}[spec.quantity]
+        reference = {
+            (False, "displacement"): "dynamic part: from the preload, relative to the ground",
+            (True, "displacement"): "dead-load deflection plus the dynamic part, relative to the ground",
+            (False, "velocity"): "relative to the ground",
+            (True, "velocity"): "absolute: relative plus the ground velocity (translations)",
+            (False, "acceleration"): "relative to the ground",
+            (True, "acceleration"): "absolute: relative plus the ground acceleration (translations)",
+        }[spec.total, spec.quantity]
         meta = {"kind": "nodal response", "quantity": spec.quantity, "total": spec.total, "nodes": list(spec.nodes),
-                "components": list(spec.components), "unit": unit}
+                "components": list(spec.components), "unit": unit, "reference": reference}
         return {self.label: np.array(self.rows).reshape(-1, *self.shape)}, meta

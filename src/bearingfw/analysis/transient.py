@@ -22,13 +22,20 @@ that does not converge is halved (``max_halvings`` times at most, reusing the fa
 step size); the excitation is linear between its samples, so sub-steps and an integration step
 that divides the record's ``dt`` see interpolated values. If it still fails,
 :class:`TransientError` names the time, the connectors still moving and the residual, and holds
-the result recorded up to the last converged instant.
+the result recorded up to the last converged instant. An exception from a law, a recorder or the
+``progress`` callback is wrapped the same way (a :class:`TransientError` with the partial result,
+the original as its ``__cause__``).
 
 Damping: :class:`~bearingfw.analysis.damping.Rayleigh`, ``C = alpha M + beta K_free`` with
 ``K_free`` the linear structure (not the laws: see :mod:`bearingfw.analysis.damping` for why).
 
 Energy: kinetic, strain, damping, bearing work and input work are accumulated every step
-(:mod:`bearingfw.analysis.energy`); ``TransientResult.energy_error`` reports the balance.
+(:mod:`bearingfw.analysis.energy`); ``TransientResult.energy_error`` reports the imbalance, which
+for ``alpha < 0`` includes HHT's numerical dissipation; ``TransientResult.balance_error`` leaves
+that out (the column ``numerical``) and must be tiny for every ``alpha``.
+
+Two "alpha"s: ``TransientSettings.alpha`` is HHT's (numerical dissipation, ``-1/3 .. 0``);
+``Rayleigh.alpha`` is the mass-proportional damping coefficient (1/s). The paper names both so.
 
 Default ``alpha = -0.05``: a little numerical dissipation removes the spurious high-frequency
 response that stick/slip switches and the stiff vertical bearing springs excite, while the modes
@@ -51,16 +58,15 @@ import scipy.sparse.linalg as spla
 
 from bearingfw.analysis import hht
 from bearingfw.analysis.damping import Rayleigh
-from bearingfw.analysis.energy import Energy
 from bearingfw.analysis.excitation import Excitation, build_excitation
 from bearingfw.analysis.history import TransientResult, energy_table
-from bearingfw.analysis.recorders import Context, Snapshot
+from bearingfw.analysis.recorders import RESERVED_NAMES, Context, Snapshot
 from bearingfw.analysis.static import StaticResult, factorize, gravity
 from bearingfw.model import Model, ModelError, System, as_system
 from bearingfw.parameters import ParameterError, choice, integer_parameter, parameter
 from bearingfw.plugins import Registry
 
-__all__ = ["TransientSettings", "TransientError", "solve_transient", "initial_acceleration", "PATHS"]
+__all__ = ["TransientSettings", "TransientError", "solve_transient", "initial_acceleration", "build_problem", "PATHS"]
 
 PATHS = ("fast", "general")
 
@@ -69,15 +75,19 @@ PATHS = ("fast", "general")
 class TransientSettings:
     """Integration and convergence settings of :func:`solve_transient`.
 
-    ``alpha``: HHT parameter (0: Newmark's average acceleration; more negative: more numerical
-    dissipation of high frequencies). ``dt_integration``: integration step, a divisor of the
-    excitation's ``dt`` (default: ``dt``). ``tol_force``: force residual relative to the step's force
-    scale; ``tol_displacement``: Newton correction of the bearing displacements relative to their
-    motion. ``max_iterations`` per step, then up to ``max_halvings`` halvings of the step.
+    ``alpha``: the HHT-alpha parameter (0: Newmark's average acceleration; more negative: more
+    numerical dissipation of high frequencies); not Rayleigh's ``alpha`` (the mass-proportional
+    damping coefficient of :class:`~bearingfw.analysis.Rayleigh`). ``dt_integration``: integration
+    step, a divisor of the excitation's ``dt`` (default: ``dt``). ``tol_force``: force residual
+    relative to the step's force scale (on the fast path its linearisation, blind to a sliding
+    bearing's zero-tangent direction: there ``tol_displacement`` decides); ``tol_displacement``:
+    Newton correction of the bearing displacements relative to their motion. ``max_iterations``
+    Newton iterations (each with a backtracking line search) per step, then up to
+    ``max_halvings`` halvings of the step.
     ``path``: ``"fast"`` (condensed onto the bearing directions) or ``"general"`` (full Newton).
     """
 
-    alpha: float = parameter(low=-1.0 / 3.0, high=0.0, default=-0.05, doc="HHT alpha")
+    alpha: float = parameter(low=-1.0 / 3.0, high=0.0, default=-0.05, doc="HHT-alpha (numerical dissipation), not Rayleigh's")
     dt_integration: float | None = parameter(optional=True, low=0.0, low_open=True, unit="s", doc="integration step")
     tol_force: float = parameter(low=0.0, low_open=True, high=1e-2, default=1e-8, doc="relative force residual")
     tol_displacement: float = parameter(
@@ -90,12 +100,14 @@ class TransientSettings:
 
 @attrs.define(auto_exc=True, eq=False, str=False)
 class TransientError(RuntimeError):
-    """A step did not converge even after ``max_halvings`` halvings.
+    """A step did not converge even after ``max_halvings`` halvings, or the run was stopped by an
+    exception from a law, a recorder or the progress callback (then ``__cause__``).
 
     ``time``: where the failing sub-step ended; ``last_converged``: the last converged instant;
-    ``connectors``: names of the connectors whose bearing displacements were still changing most;
-    ``residual``: the force residual relative to the step's force scale; ``result``: the
-    :class:`TransientResult` recorded up to ``last_converged``.
+    ``connectors``: names of the connectors whose bearing displacements were still changing most
+    (empty when an exception stopped the run); ``residual``: the force residual relative to the
+    step's force scale (NaN when an exception stopped the run); ``result``: the
+    :class:`TransientResult` recorded up to ``last_converged`` (None if even that failed).
     """
 
     message: str
@@ -164,7 +176,8 @@ def _substeps(settings: TransientSettings, dt: float) -> int:
     return k
 
 
-def _problem(system: System, preload: StaticResult, damping: Rayleigh, settings: TransientSettings) -> hht.Problem:
+def build_problem(system: System, preload: StaticResult, damping: Rayleigh, settings: TransientSettings) -> hht.Problem:
+    """The :class:`~bearingfw.analysis.hht.Problem` a run solves (free DOFs, from the preload)."""
     ops = system.connectors
     q0 = preload.q
     dead = system.reduce(preload.load)
@@ -203,7 +216,11 @@ class _Run:
         self.n_steps = (excitation.steps - 1) * k
         self.progress = progress
         self.operators: dict[float, hht.Operator] = {}
-        self.stats = {"steps": 0, "substeps": 0, "subdivisions": 0, "iterations": 0, "max_iterations": 0}
+        self.stats = {
+            "steps": 0, "substeps": 0, "subdivisions": 0, "iterations": 0, "max_iterations": 0,
+            "failed_iterations": 0, "backtracks": 0,
+        }
+        self.attempt = 0.0  # end of the sub-step being attempted (for the message of an exception)
         self.energy_rows: list[tuple[float, ...]] = []
         self.energy_times: list[float] = []
         self.times: list[float] = []
@@ -226,14 +243,18 @@ class _Run:
             if (n is None and probe.times[-1] < s.t) or (n is not None and n % probe.every == 0):
                 if snap is None:
                     ag, vg = self.exc.ground(s.t)
-                    snap = Snapshot(s.t, s.x, s.v, s.a, s.f, s.law_states, ag, vg, self.exc.nodal(s.t))
+                    snap = Snapshot(
+                        s.t, s.x, s.v, s.a, s.f, s.law_states, ag, vg, self.exc.nodal(s.t), d=s.d, a_equilibrium=s.ae
+                    )
                 probe.sample(snap)
 
     def advance(self, s: hht.State, t0: float, h: float, depth: int) -> hht.State:
         t1 = t0 + h
+        self.attempt = t1
         try:
-            new, iterations = hht.step(self.p, self.operator(h), s, t1, self.exc.load(t1))
+            new, iterations, backtracks = hht.step(self.p, self.operator(h), s, t1, self.exc.load(t1))
         except hht.StepFailure as failure:
+            self.stats["failed_iterations"] += failure.iterations
             if depth >= self.max_halvings:
                 raise _Failed(failure, s, t1) from None
             self.stats["subdivisions"] += 1
@@ -241,6 +262,7 @@ class _Run:
             return self.advance(mid, t0 + h / 2, h / 2, depth + 1)
         self.stats["substeps"] += 1
         self.stats["iterations"] += iterations
+        self.stats["backtracks"] += backtracks
         self.stats["max_iterations"] = max(self.stats["max_iterations"], iterations)
         self.last = new
         return new
@@ -265,7 +287,8 @@ class _Failed(Exception):
 
 
 def _connector_names(system: System, rows: np.ndarray, limit: int = 5) -> tuple[str, ...]:
-    """Connectors owning the governed rows with the largest scores (at least a tenth of the top)."""
+    """Connectors owning the governed rows with the largest scores (at least a tenth of the top),
+    largest first, at most ``limit``."""
     ops = system.connectors
     score: dict[int, float] = {}
     for (c, _), value in zip(ops.governed, np.asarray(rows, dtype=float).reshape(-1), strict=False):
@@ -301,7 +324,8 @@ def solve_transient(
     ``recorders``: :mod:`bearingfw.analysis.recorders` objects. ``progress(fraction)`` is called
     about every 1 % of the steps.
 
-    Raises :class:`TransientError` (with ``.result`` up to the failure) when a step does not converge.
+    Raises :class:`TransientError` (with ``.result`` up to the failure) when a step does not
+    converge, or when a law, a recorder or ``progress`` raises (the original is its ``__cause__``).
     """
     wall = _time.perf_counter()
     settings = TransientSettings() if settings is None else settings
@@ -313,35 +337,30 @@ def solve_transient(
     system, preload = _system_and_preload(system_or_model, preload, registry)
     excitation = build_excitation(system, ground_acceleration, dt, nodal_loads)
     k = _substeps(settings, excitation.dt)
-    problem = _problem(system, preload, damping, settings)
+    problem = build_problem(system, preload, damping, settings)
     ctx = Context(system, preload, excitation, damping.alpha, damping.beta)
     recorders = list(recorders)
-    labels = [getattr(r, "label", None) for r in recorders]
     if any(not hasattr(r, "bind") for r in recorders):
         raise ParameterError(
             "solve_transient: 'recorders' must be recorder objects (ElementStress, ConnectorResponse, ...)"
+        )
+    labels = [getattr(r, "label", None) for r in recorders]
+    bad = [lb for lb in labels if not isinstance(lb, str) or not lb or "." in lb or lb in RESERVED_NAMES]
+    if bad:
+        raise ParameterError(
+            f"solve_transient: recorder names {bad} are not valid result keys (a non-empty string without '.' "
+            f"and not one of {', '.join(RESERVED_NAMES)})"
         )
     if len(set(labels)) != len(labels):
         raise ParameterError(f"solve_transient: two recorders share a name: {labels}; give them distinct 'name's")
     probes = [r.bind(ctx) for r in recorders]
 
     load0 = excitation.load(0.0)
-    n = system.n_free
-    state = hht.State(
-        t=0.0,
-        x=np.zeros(n),
-        v=np.zeros(n),
-        a=initial_acceleration(problem.M, problem.K, load0),
-        f=problem.f0,
-        d=problem.d0,
-        N=problem.N0,
-        law_states=tuple(preload.law_states),
-        load=load0,
-        Mv=np.zeros(n),
-        Kv=np.zeros(n),
-        energy=Energy(),
+    state = hht.initial_state(
+        problem, tuple(preload.law_states), load0, initial_acceleration(problem.M, problem.K, load0)
     )
     run = _Run(problem, excitation, ctx, probes, k, progress)
+    run.operator(run.h)  # the nominal step's factors: part of the setup
     described = {
         "alpha": settings.alpha,
         "gamma": problem.scheme.gamma,
@@ -357,6 +376,7 @@ def solve_transient(
     }
     residual = system.K_free @ preload.q + system.B_free.T @ problem.f0 - system.reduce(preload.load)
     dead = float(np.max(np.abs(system.reduce(preload.load)), initial=0.0))
+    setup = _time.perf_counter() - wall
 
     def result(completed: bool, message: str) -> TransientResult:
         data, meta = {}, {}
@@ -365,10 +385,14 @@ def solve_transient(
             data.update(arrays)
             meta[probe.label] = description
         stats = dict(run.stats)
+        now = _time.perf_counter()
         stats.update(
             factorizations=len(run.operators),
-            wall_time=_time.perf_counter() - wall,
+            setup_time=setup,
+            loop_time=now - wall - setup,
+            wall_time=now - wall,
             preload_residual=float(np.max(np.abs(residual), initial=0.0)) / dead if dead else 0.0,
+            alpha=settings.alpha,
         )
         res = TransientResult(
             time=np.array(run.times),
@@ -380,22 +404,43 @@ def solve_transient(
             completed=completed,
             message=message,
         )
-        res.stats["energy_error"] = res.energy_error
+        res.stats.update(
+            energy_error=res.energy_error,
+            balance_error=res.balance_error,
+            numerical_dissipation=res.numerical_dissipation,
+        )
         return res
+
+    def partial(message: str) -> TransientResult | None:
+        last = run.last if run.last is not None else state
+        try:
+            run.record(last, None)  # the last converged instant (a sub-step, or a step a recorder skipped)
+            return result(False, message)
+        except Exception:  # noqa: BLE001 - a recorder that cannot finish (e.g. the one that raised): no partial result
+            return None
 
     try:
         run.run(state, settings.max_halvings)
     except _Failed as failed:
         last = run.last if run.last is not None else state
-        run.record(last, None)  # the last converged instant (a sub-step, or a step a recorder skipped)
         names = _connector_names(system, failed.failure.rows)
+        halvings = (
+            f"with the step halved {settings.max_halvings} times, to {failed.t1 - failed.state.t:.3g} s"
+            if settings.max_halvings
+            else f"at the full step {failed.t1 - failed.state.t:.3g} s; step halving is off (max_halvings = 0)"
+        )
         message = (
-            f"solve_transient: no convergence at t = {failed.t1:.6g} s ({failed.failure.reason} after "
-            f"{settings.max_halvings} halvings of the step, sub-step {failed.t1 - failed.state.t:.3g} s); "
+            f"solve_transient: no convergence at t = {failed.t1:.6g} s ({failed.failure.reason} {halvings}); "
             f"connectors still moving: {', '.join(names) or 'none'}; relative force residual "
             f"{failed.failure.residual:.3g}; results kept up to t = {last.t:.6g} s"
         )
-        raise TransientError(
-            message, failed.t1, last.t, names, failed.failure.residual, result(False, message)
-        ) from None
+        raise TransientError(message, failed.t1, last.t, names, failed.failure.residual, partial(message)) from None
+    except Exception as exc:  # a law, a recorder or progress: keep what was computed, chain the cause
+        last = run.last if run.last is not None else state
+        at = max(run.attempt, last.t)
+        message = (
+            f"solve_transient: stopped at t = {at:.6g} s by {type(exc).__name__}: {exc}; "
+            f"results kept up to t = {last.t:.6g} s"
+        )
+        raise TransientError(message, at, last.t, (), float("nan"), partial(message)) from exc
     return result(True, "")

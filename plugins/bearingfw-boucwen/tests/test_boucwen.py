@@ -19,8 +19,12 @@ examples = settings(max_examples=15, deadline=None, suppress_health_check=[Healt
 
 
 @st.composite
-def laws(draw, dims=1, max_n=3.0):
-    """A BoucWen law across the admissible parameters (gamma >= -0.6 beta keeps z_max moderate)."""
+def laws(draw, dims=1, max_n=3.0, n=None):
+    """A BoucWen law across the admissible parameters (gamma >= -0.6 beta keeps z_max moderate).
+
+    ``n = 2`` (integrated in closed form) about half the time, else any exponent up to ``max_n``
+    (backward-Euler substeps); ``n`` fixes it.
+    """
     beta = draw(st.floats(0.1, 1.0))
     return BoucWen(
         k=draw(st.floats(1e6, 1e9)),
@@ -28,8 +32,8 @@ def laws(draw, dims=1, max_n=3.0):
         uy=draw(st.floats(1e-4, 1e-2)),
         A=draw(st.floats(0.5, 2.0)),
         beta=beta,
-        gamma=beta * draw(st.floats(-0.6, 1.0)),
-        n=draw(st.floats(1.0, max_n)),
+        gamma=beta * draw(st.one_of(st.just(1.0), st.floats(-0.6, 1.0))),
+        n=n if n is not None else draw(st.one_of(st.just(2.0), st.floats(1.0, max_n))),
         dims=dims,
     )
 
@@ -146,10 +150,11 @@ def test_tangent_is_the_derivative_of_the_force(dims, data):
         assert min(errors) <= 1e-5 * scale, f"column {j}: tangent {tangent[:, j]}, central differences {central}"
 
 
+@pytest.mark.parametrize("n", [1.5, 2.0])
 @pytest.mark.parametrize("dims", [1, 2])
-def test_at_the_committed_point_the_tangent_is_the_unloading_one(dims):
+def test_at_the_committed_point_the_tangent_is_the_unloading_one(dims, n):
     """beta = gamma: unloading is elastic (slope A/uy in z), so the tangent there is the initial one."""
-    law = BoucWen(k=4e8, alpha=0.05, uy=1e-3, n=1.5, dims=dims)
+    law = BoucWen(k=4e8, alpha=0.05, uy=1e-3, n=n, dims=dims)
     path = law.uy * np.array([[3.0, -3.0], [2.6, -2.6]])[:, :dims]
     _, _, states = run(law, path)
     assert np.all(np.abs(states[-1]["z"]) > 0.1)  # loaded: the kink is real
@@ -227,10 +232,12 @@ def test_z_and_the_hysteretic_force_stay_within_the_bound(dims, data):
     assert np.all(hysteretic <= bound * (1 + 1e-12) + 1e-14 * law.k * np.abs(path).max())
 
 
+@pytest.mark.parametrize("n", [2.0, 2.5])
 @pytest.mark.parametrize("dims", [1, 2])
-def test_an_increment_beyond_max_substeps_stays_bounded_with_a_consistent_tangent(dims):
-    """A wild trial displacement (3000 substep lengths) is cut into MAX_SUBSTEPS equal substeps."""
-    law = BoucWen(k=4e8, alpha=0.05, uy=1e-3, n=2.0, beta=0.6, gamma=-0.2, dims=dims)
+def test_an_increment_beyond_max_substeps_stays_bounded_with_a_consistent_tangent(dims, n):
+    """A wild trial displacement (3000 substep lengths): cut into MAX_SUBSTEPS equal substeps
+    (n = 2.5), or integrated in closed form (n = 2), where nothing overflows."""
+    law = BoucWen(k=4e8, alpha=0.05, uy=1e-3, n=n, beta=0.6, gamma=-0.2, dims=dims)
     direction = np.array([-0.8, 0.6])[:dims] / np.linalg.norm(np.array([-0.8, 0.6])[:dims])
     state = run(law, np.array([[4.0, 3.0]])[:, :dims] * law.uy)[2][-1]
     u = state["u"] + 3000 * law.substep * direction
@@ -367,6 +374,88 @@ def test_converges_to_the_exact_solution_as_the_step_shrinks(shape):
     assert abs(one_call - exact(distance)) / law.z_max <= errors[0]
 
 
+def park_wen_reference(law, z0, du):
+    """z at the end of the straight increment ``du`` from ``z0`` (dims,), by an accurate Runge-Kutta."""
+    length = float(np.linalg.norm(du))
+    e = du / length
+
+    def rate(_, z):
+        r = np.linalg.norm(z)
+        q = law.beta * np.sum(np.abs(e * z)) + law.gamma * (z @ e)
+        return (law.A * e - r ** (law.n - 2.0) * q * z if r > 0 else law.A * e) / law.uy
+
+    solution = solve_ivp(rate, [0.0, length], z0, method="DOP853", rtol=1e-12, atol=1e-14 * law.z_max)
+    return solution.y[:, -1]
+
+
+@pytest.mark.parametrize("dims", [1, 2])
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_n2_is_integrated_exactly(dims, data):
+    """n = 2: z at the end of any increment (reversals, sign changes of z's components, up to 30
+    yield lengths) is the exact solution of the law's equation, to 1e-9 of z_max."""
+    law = data.draw(laws(dims, n=2.0))
+    state = run(law, data.draw(paths(law, max_steps=3)))[2][-1]
+    du = yield_length(law) * np.array(data.draw(st.lists(st.floats(-30.0, 30.0), min_size=dims, max_size=dims)))
+    if np.linalg.norm(du) < 1e-9 * law.uy:  # (the reference's norm underflows for subnormal du)
+        return
+    z = law.respond(state, state["u"] + du[None, :], np.ones(1), 0.01).state["z"][0]
+    expected = park_wen_reference(law, state["z"][0], du)
+    assert np.abs(z - expected).max() <= 1e-9 * law.z_max, (state["z"][0], du / law.uy, z, expected)
+
+
+def test_n2_through_two_sign_changes_is_exact_with_a_consistent_tangent():
+    """2-D, both components of z opposite to the motion: two events (each component crosses zero
+    once), then saturation. z against the reference, the tangent against central differences
+    (the event positions move with u: the map is smooth, its tangent continuous, across them)."""
+    law = BoucWen(k=1e6, alpha=0.1, uy=1e-3, A=1.2, beta=0.6, gamma=0.2, n=2.0, dims=2)
+    state = run(law, law.uy * np.array([[1.0, 0.5], [2.0, 1.5]]))[2][-1]
+    assert np.all(state["z"] > 0.3 * law.z_max)
+    du = law.uy * np.array([-2.5, -4.0])
+    response = law.respond(state, state["u"] + du[None, :], np.ones(1), 0.01)
+    z = response.state["z"][0]
+    assert np.all(z < 0)  # both components crossed
+    np.testing.assert_allclose(z, park_wen_reference(law, state["z"][0], du), rtol=0, atol=1e-10 * law.z_max)
+    eps = 1e-6 * law.uy
+    for j in range(2):
+        step = np.eye(2)[j] * eps
+        plus, minus = (law.respond(state, state["u"] + du + sign * step, np.ones(1), 0.01).force[0] for sign in (1, -1))
+        np.testing.assert_allclose((plus - minus) / (2 * eps), response.tangent[0][:, j], rtol=1e-6, atol=1e-7 * law.k)
+
+
+@pytest.mark.parametrize(
+    "z0, du",
+    [([0.0, 0.76], [1.0, -1.0]), ([0.0, 0.76], [0.3, -0.3]), ([0.5, -0.5], [-1.0, -1.0]), ([0.0, 0.0], [2.0, 2.0])],
+)
+def test_n2_tangent_where_the_sign_dependent_term_cancels(z0, du):
+    """beta = 1, gamma = 0 and motion at 45 degrees to the axes with z_x = 0 or |z_x| = |z_y|:
+    c = A w . e = 0 exactly in a segment (found by hypothesis: the complex step then rests on
+    tanhc's series near 0)."""
+    law = BoucWen(k=1e6, alpha=0.0, uy=1e-3, A=1.0, beta=1.0, gamma=0.0, n=2.0, dims=2)
+    state = {"z": np.array([z0]), "u": np.zeros((1, 2))}
+    u = law.uy * np.array([du])
+    for m in (1, 2):  # one connector (Python floats) and two (numpy)
+        states = {"z": np.repeat(state["z"], m, axis=0), "u": np.zeros((m, 2))}
+        tangent = law.respond(states, np.repeat(u, m, axis=0), np.ones(m), 0.01).tangent[0]
+        eps = 1e-7 * law.uy
+        for j in range(2):
+            step = np.eye(2)[j] * eps
+            plus, minus = (law.respond(state, u + sign * step, np.ones(1), 0.01).force[0] for sign in (1, -1))
+            np.testing.assert_allclose(tangent[:, j], (plus - minus) / (2 * eps), rtol=1e-6, atol=1e-7 * law.k)
+
+
+@pytest.mark.parametrize("dims", [1, 2])
+def test_n2_with_beta_equal_to_gamma_unloads_elastically(dims):
+    """beta = gamma and z opposite to the motion in every component: w = 0, so z moves as
+    A du / uy exactly (c = 0, the closed form's degenerate case), with the initial stiffness."""
+    law = BoucWen(k=4e8, alpha=0.0, uy=2e-4, n=2.0, dims=dims)
+    state = run(law, law.uy * np.array([[2.0, 1.5]])[:, :dims])[2][-1]
+    du = -0.3 * law.uy * np.array([1.0, 0.7])[:dims]
+    response = law.respond(state, state["u"] + du[None, :], np.ones(1), 0.01)
+    np.testing.assert_allclose(response.state["z"][0], state["z"][0] + du / law.uy, rtol=1e-14)
+    np.testing.assert_allclose(response.tangent[0], law.k * np.eye(dims), rtol=1e-12, atol=1e-12 * law.k)
+
+
 # --- 2-D against 1-D, vectorisation ---------------------------------------------------------
 
 
@@ -413,14 +502,44 @@ def test_n_connectors_together_equal_each_alone(dims, data):
         state = together.state
 
 
+@pytest.mark.parametrize("dims", [1, 2])
+@pytest.mark.parametrize("shape", [{"beta": 0.5, "gamma": 0.5}, {"A": 1.3, "beta": 0.7, "gamma": -0.4}])
+def test_n2_one_connector_alone_is_the_vectorised_law(dims, shape):
+    """n = 2 answers one connector in Python floats and several with numpy: the same closed form.
+    400 random states across the ball and increments from 0.001 to 30 yield lengths (reversals,
+    sign changes of z's components, zero components, increments below STILL uy)."""
+    law = BoucWen(k=4e8, alpha=0.02, uy=2e-4, n=2.0, dims=dims, **shape)
+    rng = np.random.default_rng(2024 + dims)
+    m = 400
+    z = rng.normal(size=(m, dims))
+    z *= law.z_max * rng.uniform(0.0, 1.0, (m, 1)) / np.linalg.norm(z, axis=1, keepdims=True)
+    z[:40, 0] = 0.0
+    du = rng.normal(size=(m, dims)) * law.uy * 10.0 ** rng.uniform(-3.0, 1.5, (m, 1))
+    du[40:80, -1] = 0.0
+    du[80:90] = 0.0
+    du[90:100] *= 1e-210  # below STILL uy
+    state = {"z": z, "u": rng.normal(size=(m, dims)) * law.uy}
+    together = law.respond(state, state["u"] + du, np.ones(m), 0.01)
+    for i in range(m):
+        alone = law.respond({"z": z[i : i + 1], "u": state["u"][i : i + 1]}, state["u"][i : i + 1] + du[i : i + 1],
+                            np.ones(1), 0.01)  # fmt: skip
+        np.testing.assert_allclose(alone.force[0], together.force[i], rtol=1e-12, atol=1e-12 * law.k * law.uy)
+        np.testing.assert_allclose(alone.tangent[0], together.tangent[i], rtol=1e-9, atol=1e-10 * law.k)
+        np.testing.assert_allclose(alone.state["z"][0], together.state["z"][i], rtol=0, atol=1e-13 * law.z_max)
+
+
 # --- bearingfw's conformance suite ----------------------------------------------------------
 
 
+@pytest.mark.parametrize(
+    "shape", [{}, {"n": 2.0}, {"n": 2.0, "alpha": 0.0, "beta": 0.7, "gamma": -0.3}], ids=["n=1", "n=2", "n=2 gamma<0"]
+)
 @pytest.mark.parametrize("dims", [1, 2])
-def test_passes_the_bearingfw_conformance_suite(dims):
-    """The defaults (beta = gamma) at the paper's bearing scale. The suite draws steps of up to 20
-    times displacement_scale, so uy / 4 still takes the paths far past yield (and keeps it short)."""
-    law = BoucWen(k=4e8, alpha=0.05, uy=1e-3, dims=dims)
+def test_passes_the_bearingfw_conformance_suite(dims, shape):
+    """The defaults (beta = gamma; n = 1: substeps, n = 2: closed form) at the paper's bearing scale.
+    The suite draws steps of up to 20 times displacement_scale, so uy / 4 still takes the paths far
+    past yield (and keeps it short)."""
+    law = BoucWen(**{"k": 4e8, "alpha": 0.05, "uy": 1e-3, **shape, "dims": dims})
     check_law(law, displacement_scale=law.uy / 4, max_examples=10)
 
 

@@ -11,7 +11,8 @@ M1         linear-spring         ``k = K_s``: step 1 of the tuning (modal tuning
 M2         regularized-coulomb   ``k = K_s``, ``mu = 0.04``: step 2, for time histories
 fixed      (JOIN)                every bearing fixed (section 3.3's alternative)
 bouc-wen   bouc-wen              ``k = K_s``, ``alpha = 0``, ``A = 1``, ``beta = gamma = 0.5``,
-                                 ``n = boucwen_exponent``, ``uy = mu N_dead / K_s`` per bearing
+                                 ``n = boucwen_exponent`` (default 2), ``uy = mu N_dead / K_s``
+                                 per bearing
 =========  ====================  =============================================================
 
 Bouc-Wen as friction. With ``alpha = 0`` and ``A = 1`` the force is ``k uy z`` with ``|z| <= 1``
@@ -20,6 +21,16 @@ Bouc-Wen as friction. With ``alpha = 0`` and ``A = 1`` the force is ``k uy z`` w
 sharper the knee; ``beta = gamma`` unloads along the initial stiffness, like the stick branch).
 Unlike M2 it does not follow the normal force in time: ``N_dead`` is each bearing's dead-load
 normal force, computed once by a gravity analysis of the M1 model (same initial stiffness).
+
+The exponent. ``n = 2`` (:attr:`BridgeParameters.boucwen_exponent`'s default) is Park, Wen & Ang's
+biaxial exponent, the one the bearingfw-boucwen plugin integrates exactly, in closed form: a
+time history costs about twice M2's (3 s of the synthetic tremor at D_II: about 1 s CPU, against
+about 40 s with ``n = 4``, which needs backward-Euler substeps). From rest the force reaches
+76 % of ``mu N_dead`` at ``u = uy`` (0.05 to 0.25 mm here), 96 % at ``2 uy`` and
+99.5 % at ``3 uy`` (``tanh``); ``n = 4`` is sharper (86 %, 99.7 %, 100 %). On that record the
+peak force of every bearing differs by less than 3 % between the two exponents, the histories
+by up to 15 % of a bearing's peak (the shape of the knee). Set ``boucwen_exponent`` for another
+smoothness.
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@ import json
 
 import numpy as np
 import pytest
-from conftest import CHUETSU, G, MANJIL, at2_values
+from motion_records import CHUETSU, G, MANJIL, at2_values
 
 from bearingfw.cli.main import main
 

@@ -5,7 +5,7 @@ import re
 
 import numpy as np
 import pytest
-from conftest import CHUETSU, G, MANJIL, RECORDS, at2_values
+from motion_records import CHUETSU, G, MANJIL, RECORDS, at2_values
 
 import types
 

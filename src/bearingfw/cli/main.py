@@ -10,9 +10,9 @@ import argparse
 import sys
 
 from bearingfw import __version__
-from bearingfw.cli import modal, plugins, record, tune
+from bearingfw.cli import modal, plugins, record, run, tune
 
-COMMANDS = [plugins, record, modal, tune]
+COMMANDS = [plugins, record, modal, tune, run]
 
 
 def build_parser() -> argparse.ArgumentParser:

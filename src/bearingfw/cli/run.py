@@ -1,0 +1,134 @@
+"""``bearingfw run``: run an experiment (models x records x intensities) and write matrices, figures, report."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import textwrap
+
+from bearingfw.parameters import ParameterError
+
+#: Exit codes: every cell finished; a cell failed (the rest completed); the experiment could not
+#: run (a bad file or option); interrupted (128 + SIGINT).
+OK, CELLS_FAILED, ERROR, INTERRUPTED = 0, 1, 2, 130
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "run",
+        help="run an experiment: bearing models x ground motions x intensities -> matrices, figures, report",
+        description=textwrap.fill(
+            "Run an experiment described by a TOML file; without one, the built-in experiment: the paper's "
+            "comparative study (bearing models M0, M1, M2, fixed and Bouc-Wen on the reference bridge, under the "
+            "synthetic mining tremor scaled to D_0 .. D_IV). Each (model, record, intensity) cell is a time-history "
+            "analysis, stored as soon as it finishes with a hash of its inputs: a rerun computes only the cells that "
+            "are missing, failed, or whose inputs changed, so an interrupted run just continues. Then the comparison "
+            "matrices (matrices.json, CSVs), figures (PNG, SVG) and report.md are written to the output directory.",
+            width=88,
+        ),
+        epilog="exit status: 0 no cell failed, 1 some cell failed (the others completed; see report.md), "
+        "2 the experiment could not run, 130 interrupted\n\n"
+        "examples:\n"
+        "  bearingfw run                                  the paper's study into bearingfw-results/paper-study\n"
+        "  bearingfw run --print-default > my.toml        a starting point for your own experiment\n"
+        "  bearingfw run my.toml --out results/my --workers 4\n"
+        "  bearingfw run my.toml --executor dask --scheduler tcp://10.0.0.5:8786\n"
+        "  bearingfw run --only M2 --levels D_II --quiet --json",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("experiment", nargs="?", metavar="EXPERIMENT.toml",
+                        help="the experiment file (default: the built-in paper study)")
+    parser.add_argument("--print-default", action="store_true",
+                        help="print the built-in experiment's TOML (every option, commented) and exit")
+    parser.add_argument("--out", metavar="DIR",
+                        help="results directory (default: bearingfw-results/<experiment name> here)")
+    parser.add_argument("--executor", choices=("serial", "processes", "dask"),
+                        help="who computes the cells: this process, local worker processes (default), or Dask "
+                        "distributed (the 'dask' extra)")
+    parser.add_argument("--workers", type=int, metavar="N",
+                        help="worker processes (default: one per core; for dask without --scheduler, the local "
+                        "cluster's workers)")
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="Dask scheduler to use (implies --executor dask; default: a local cluster)")
+    parser.add_argument("--reference", metavar="MODEL", help="model the ratios divide by (default: the file's, or M2)")
+    parser.add_argument("--force", action="store_true", help="recompute every cell, finished or not")
+    parser.add_argument("--only", action="append", metavar="MODEL",
+                        help="run only this model's cells (repeat for several); the matrices show all finished cells")
+    parser.add_argument("--levels", action="append", metavar="INTENSITY",
+                        help="run only this intensity's cells, e.g. D_II (repeat for several)")
+    parser.add_argument("--no-figures", action="store_true", help="skip the figures (faster)")
+    parser.add_argument("--quiet", action="store_true", help="no progress and no tables (errors only)")
+    parser.add_argument("--json", action="store_true", help="print a JSON summary at the end")
+    parser.set_defaults(func=run)
+
+
+def _experiment(args):
+    import attrs
+
+    from bearingfw.experiment import default_experiment, load_experiment
+
+    experiment = load_experiment(args.experiment) if args.experiment else default_experiment()
+    changes = {}
+    if args.reference:
+        changes["reference"] = args.reference
+    if args.no_figures:
+        changes["figures"] = attrs.evolve(experiment.figures, draw=False)
+    if changes:
+        try:
+            experiment = attrs.evolve(experiment, **changes)
+        except ParameterError as exc:
+            raise ParameterError(f"--reference: {exc}") from None
+    return experiment
+
+
+def _print_results(summary, out) -> None:
+    from bearingfw.experiment import format_tables
+
+    print(format_tables(summary.matrices, summary.table), file=out)
+    if summary.findings:
+        print("\nThe paper's findings (dynamic stresses; friction ratio at 3B):", file=out)
+        for f in summary.findings:
+            mark = {True: "yes", False: "NO ", None: "n/a"}[f.holds]
+            print(f"  [{mark}] {f.statement}: {f.measured}", file=out)
+    if summary.failed:
+        print(f"\n{len(summary.failed)} cell(s) failed:", file=out)
+        for cell, error in summary.failed:
+            print(f"  {cell}: {error}", file=out)
+    print(f"\nresults: {summary.out} (matrices.json, matrices/, figures/, report.md)", file=out)
+
+
+def run(args) -> int:
+    from bearingfw.experiment import (
+        DEFAULT_TOML,
+        ExecutorError,
+        Progress,
+        make_executor,
+        run_experiment,
+    )
+
+    if args.print_default:
+        sys.stdout.write(DEFAULT_TOML)
+        return OK
+    try:
+        experiment = _experiment(args)
+        name = args.executor or ("dask" if args.scheduler else "processes")
+        executor = make_executor(name, args.workers, args.scheduler)
+        progress = Progress(quiet=args.quiet)
+        summary = run_experiment(
+            experiment, args.out, executor, force=args.force, models=tuple(args.only or ()),
+            intensities=tuple(args.levels or ()), progress=progress,
+        )
+    except KeyboardInterrupt:
+        print("\nbearingfw run: interrupted; finished cells are kept, run again to continue", file=sys.stderr)
+        return INTERRUPTED
+    except (ParameterError, ExecutorError, OSError) as exc:
+        print(f"bearingfw run: error: {exc}", file=sys.stderr)
+        return ERROR
+    if not args.quiet:
+        _print_results(summary, sys.stderr if args.json else sys.stdout)
+    if args.json:
+        from bearingfw.experiment.store import jsonable
+
+        print(json.dumps(jsonable(summary.to_dict()), indent=2))
+    return CELLS_FAILED if summary.exit_code else OK

@@ -1,0 +1,186 @@
+"""Computing one cell: build the model, preload it, shake it, reduce the response to metrics.
+
+:func:`compute_cell` never raises for a failing cell: non-convergence
+(:class:`~bearingfw.analysis.TransientError`), a law that raises, a record that cannot be read or
+scaled, anything, becomes an outcome with status ``failed``, its error and traceback, so that
+the rest of the matrix completes. (``KeyboardInterrupt`` and ``SystemExit`` still stop it: an
+interrupted cell is not a result.) :func:`compute_and_store` is what a worker process runs: it
+also commits the cell to the results store itself, so that a finished cell survives the death of
+the process that started the run.
+"""
+
+from __future__ import annotations
+
+import datetime
+import os
+import platform
+import time
+import traceback
+
+import attrs
+
+from bearingfw.analysis import TransientError, gravity, solve_transient
+from bearingfw.experiment.cells import CellJob
+from bearingfw.experiment.metrics import recorders, reduce_result
+from bearingfw.experiment.records import ground_acceleration, load_record, scaled_record
+from bearingfw.experiment.store import Store
+from bearingfw.experiment.structure import (
+    build_model,
+    deck_nodes,
+    import_paths,
+    registry_for,
+    response_elements,
+)
+from bearingfw.model import as_system
+from bearingfw.motion import get_scale, record_degree, record_pga_h10, record_t_ha
+
+__all__ = ["CellOutcome", "CellSummary", "compute_and_store", "compute_cell", "failed_outcome", "write_outcome"]
+
+#: Lines of traceback kept with a failed cell.
+TRACEBACK_LINES = 40
+
+
+@attrs.frozen
+class CellSummary:
+    """What the process that runs the experiment hears of a cell (no arrays)."""
+
+    id: str
+    model: str
+    status: str
+    wall_time: float
+    error: str | None = None
+
+
+@attrs.frozen(eq=False)
+class CellOutcome:
+    """A computed cell: its JSON document and its histories (None if not kept or none recorded)."""
+
+    document: dict
+    histories: dict | None = None
+    meta: dict | None = None
+
+    @property
+    def summary(self) -> CellSummary:
+        d = self.document
+        error = d["error"]["message"] if d.get("error") else None
+        return CellSummary(d["id"], d["model"], d["status"], d["wall_time"], error)
+
+
+def _now() -> str:
+    return datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")
+
+
+def _laws(model) -> dict:
+    return {
+        c.name: {"kind": c.kind.value, "law": c.law, "params": dict(c.law_params), "sliding": list(c.law_directions)}
+        for c in model.connectors
+    }
+
+
+def _thinned(histories: dict, every: int) -> dict:
+    return {k: (v if k.startswith("ground.") else v[::every]) for k, v in histories.items()}
+
+
+def _history_meta(job: CellJob, model, elements, nodes) -> dict:
+    return {
+        "cell": job.id,
+        "description": "bearingfw cell histories: time (s); stress.<element>, stress_dynamic.<element> (Pa, "
+        "maximum over the element's recovery points and ends); bearings.<quantity> (t, connectors[, local x y z]); "
+        "deck.acceleration (t, nodes, global x y z, absolute); ground.acceleration (record samples, global x y z)",
+        "elements": list(elements),
+        "bearings": [c.name for c in model.connectors],
+        "sliding": {c.name: list(c.law_directions) for c in model.connectors},
+        "deck_nodes": list(nodes),
+        "units": {"stress": "Pa", "force": "N", "displacement": "m", "slip": "m", "normal_force": "N",
+                  "friction_ratio": "-", "acceleration": "m/s^2", "time": "s"},
+    }
+
+
+def _document(job: CellJob) -> dict:
+    return {
+        "id": job.id, "model": job.model, "record": job.record, "intensity": job.intensity.name,
+        "digest": job.digest, "inputs": job.inputs, "started": _now(), "host": platform.node(), "pid": os.getpid(),
+    }
+
+
+def _error(exc: BaseException) -> dict:
+    text = "".join(traceback.format_exception(exc))
+    return {"type": type(exc).__name__, "message": str(exc), "traceback": text[-200 * TRACEBACK_LINES:]}
+
+
+def failed_outcome(job: CellJob, exc: BaseException, wall_time: float = 0.0) -> CellOutcome:
+    """A failed cell whose error happened outside :func:`compute_cell` (e.g. its worker process died)."""
+    document = {**_document(job), "status": "failed", "metrics": {}, "error": _error(exc), "finished": _now(),
+                "wall_time": wall_time, "histories": None}
+    return CellOutcome(document)
+
+
+def compute_cell(job: CellJob) -> CellOutcome:
+    """Compute one cell (module docstring); failures are outcomes, not exceptions."""
+    experiment = job.experiment
+    wall = time.perf_counter()
+    document = _document(job)
+    histories = meta = None
+    try:
+        paths = import_paths(experiment)
+        registry = registry_for(experiment.plugins, paths)
+        model = build_model(experiment.structure, experiment.model(job.model), registry, paths)
+        document["laws"] = _laws(model)
+        elements = response_elements(experiment.structure, model)
+        nodes = deck_nodes(experiment.structure, model)
+        spec = experiment.record(job.record)
+        record = scaled_record(
+            load_record(experiment, spec, registry), job.intensity, experiment.intensities,
+            experiment.integration.dt_integration, registry,
+        )
+        document["record_measures"] = {
+            "source": record.title, "synthetic": record.synthetic, "dt": record.dt, "samples": record.n,
+            "scale_factor": record.metadata.get("scale_factor", 1.0), "pga_h10": record_pga_h10(record),
+            "t_ha": record_t_ha(record),
+            "degree": record_degree(record, get_scale(experiment.intensities.scale, registry)),
+            "notes": list(record.notes),
+        }
+        ag = ground_acceleration(record, spec.components)
+        system = as_system(model, registry)
+        preload = gravity(system)
+        failure = None
+        try:
+            result = solve_transient(
+                system, ag, record.dt, settings=experiment.integration, damping=experiment.damping.rayleigh(),
+                recorders=recorders(elements, nodes, model), preload=preload,
+            )
+        except TransientError as exc:  # keep what was computed up to the failure, for diagnosis
+            failure, result = exc, exc.result
+        if result is not None:
+            reduced, metrics = reduce_result(result, model, elements, nodes)
+            document["stats"] = result.stats
+            document["settings"] = result.settings
+            if experiment.output.histories:
+                histories = _thinned({**reduced, "ground.acceleration": ag}, experiment.output.every)
+                meta = _history_meta(job, model, elements, nodes)
+        if failure is not None:
+            raise failure
+        document["metrics"] = metrics
+        document["status"] = "ok"
+        document["error"] = None
+    except Exception as exc:  # noqa: BLE001 - any failure of one cell is recorded, the others go on
+        document["status"] = "failed"
+        document["metrics"] = {}
+        document["error"] = _error(exc)
+    document["finished"] = _now()
+    document["wall_time"] = time.perf_counter() - wall
+    document["histories"] = f"{job.intensity.name}.npz" if histories is not None else None
+    return CellOutcome(document, histories, meta)
+
+
+def write_outcome(store: Store, outcome: CellOutcome) -> None:
+    """Commit a computed cell to the store (histories first, then the JSON)."""
+    store.write_cell(outcome.document, outcome.histories, outcome.meta)
+
+
+def compute_and_store(job: CellJob, root: str) -> CellSummary:
+    """Compute a cell and commit it to the store at ``root`` from this process (what workers run)."""
+    outcome = compute_cell(job)
+    write_outcome(Store(root), outcome)
+    return outcome.summary
+

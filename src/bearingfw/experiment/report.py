@@ -1,0 +1,301 @@
+"""``report.md``: an experiment's inputs, record measures, modal results, matrices, figures, run
+statistics and failed cells, as Markdown with the figures linked relative to the results directory.
+
+Pure text assembly from what the run produced (:class:`ReportData`); nothing is computed here.
+"""
+
+from __future__ import annotations
+
+import datetime
+import math
+import platform
+from collections.abc import Sequence
+from pathlib import Path
+
+import attrs
+
+from bearingfw.experiment.findings import Finding
+from bearingfw.experiment.matrices import Matrices
+from bearingfw.experiment.metrics import FAMILIES, display_scale, metric_family
+from bearingfw.experiment.spec import Experiment
+
+__all__ = ["ReportData", "render_report"]
+
+
+@attrs.frozen(eq=False)
+class ReportData:
+    """Everything the report shows. ``cells``: ``(cell id, document or None)`` for every planned cell."""
+
+    experiment: Experiment
+    out: Path
+    summary: object  # bearingfw.experiment.runner.RunSummary
+    matrices: Matrices
+    table: tuple[str, ...]
+    cells: tuple[tuple[str, dict | None], ...]
+    records: dict
+    modal: dict
+    figures: tuple[Path, ...]
+    findings: tuple[Finding, ...]
+    findings_total: tuple[Finding, ...]
+
+
+def _row(cells: Sequence) -> str:
+    return "| " + " | ".join(str(c).replace("|", "\\|").replace("\n", " ") for c in cells) + " |"
+
+
+def _table(header: Sequence, rows: Sequence[Sequence]) -> list[str]:
+    return [_row(header), _row(["---"] * len(header)), *(_row(r) for r in rows)]
+
+
+def _g(value, digits: int = 4) -> str:
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "-"
+    return f"{value:.{digits}g}" if isinstance(value, float) else str(value)
+
+
+def _figure_link(data: ReportData, path: Path, alt: str) -> str:
+    return f"![{alt}]({Path(path).relative_to(data.out).as_posix()})"
+
+
+def _pngs(data: ReportData, prefix: str) -> list[Path]:
+    return [p for p in data.figures if p.suffix == ".png" and p.name.startswith(prefix)]
+
+
+def _summary(data: ReportData) -> list[str]:
+    s = data.summary
+    missing = sum(1 for _, d in data.cells if d is None)
+    failed = sum(1 for _, d in data.cells if d is not None and d.get("status") != "ok")
+    lines = [
+        "## Summary", "",
+        (f"- cells: {s.cells} ({len(data.experiment.models)} models x {len(data.experiment.records)} record(s) x "
+         f"{len(data.experiment.intensity_list)} intensities); {len(s.computed)} computed in this run, "
+         f"{len(s.skipped)} kept from earlier runs, {failed} failed, {missing} not computed"),
+        (f"- cells computed in {s.run_time:.1f} s of wall time on the {s.executor} executor ({s.workers} worker(s)); "
+         f"whole run {s.wall_time:.1f} s"),
+    ]
+    if data.findings:
+        lines += ["", "### The paper's findings", "",
+                  ("Checked on the dynamic stresses (`stress_dynamic`: the stress of the tremor's part of the "
+                   "section forces; the paper's linearity argument holds for it), and on the friction ratio of "
+                   "bearing 3B:"), ""]
+        lines += _table(["finding", "this run", "holds"],
+                        [(f.statement, f.measured, {True: "yes", False: "**no**", None: "n/a"}[f.holds])
+                         for f in data.findings])
+        if data.findings_total:
+            lines += ["", "The same stress checks on the total stresses (dead load + tremor), for comparison:", ""]
+            lines += _table(["finding", "this run", "holds"],
+                            [(f.statement, f.measured, {True: "yes", False: "no", None: "n/a"}[f.holds])
+                             for f in data.findings_total if "friction" not in f.statement])
+    return lines
+
+
+def _inputs(data: ReportData) -> list[str]:
+    e = data.experiment
+    st = e.structure
+    options = ", ".join(f"{k} = {v}" for k, v in st.options.items()) or "defaults"
+    kind = "the paper's reference bridge" if st.is_reference else "a user's model"
+    lines = ["## Inputs", "", "### Structure", "",
+             f"- builder: `{st.builder}` ({kind}); options: {options}",
+             f"- response elements: {', '.join(_elements(data)) or 'none'}"]
+    lines += ["", "### Bearing models", ""]
+    rows = []
+    for m in e.models:
+        laws = _laws_of(data, m.name)
+        rows.append((m.name + (" (reference)" if m.name == data.matrices.reference else ""), m.describe(), laws))
+    lines += _table(["model", "definition", "sliding bearings (law: bearings)"], rows)
+    lines += ["", "### Records", ""]
+    rows = []
+    for name, r in data.records.items():
+        axes = ", ".join(f"{axis} = {role}" for axis, role in r["axes"].items())
+        rows.append((name, r["source"], _g(r["dt"]), f"{r['duration']:.2f}", _g(r["pga_h10"]), f"{r['t_ha']:.2f}",
+                     _g(r["arias"]), r["degree"], axes))
+    lines += _table(["record", "source", "dt [s]", "duration [s]", "PGA_H10 [m/s²]", "t_Ha [s]", "Arias [m/s]",
+                     "degree", "applied as"], rows)
+    for name, r in data.records.items():
+        for note in r["notes"]:
+            lines.append(f"\n- {name}: {note}")
+        if r["synthetic"]:
+            lines.append(f"\n- {name} is SYNTHETIC: generated by bearingfw (a mining tremor in kind), not a recording.")
+    lines += ["", "### Intensities", ""]
+    header = ["intensity", "PGA_H10 [m/s²]"] + [f"{name}: scale factor, degree" for name in data.records]
+    rows = []
+    for i in e.intensity_list:
+        row = [i.name, _g(i.pga_h10)]
+        for r in data.records.values():
+            m = r["intensities"].get(i.name, {})
+            row.append(f"error: {m['error']}" if "error" in m else f"{m['scale_factor']:.4g}, {m['degree']}")
+        rows.append(row)
+    lines += _table(header, rows)
+    rayleigh = e.damping.rayleigh()
+    ratios = e.damping.ratios
+    if ratios:
+        source = f" (from {ratios[0][1]:.1%} at {ratios[0][0]:g} Hz and {ratios[1][1]:.1%} at {ratios[1][0]:g} Hz)"
+    elif e.damping.alpha is None:
+        source = " (the paper's measured 2.1 % at 1.50 Hz and 2.7 % at 3.36 Hz)"
+    else:
+        source = ""
+    integration = ", ".join(f"{k} = {v}" for k, v in attrs.asdict(e.integration).items())
+    lines += ["", "### Analysis", "",
+              f"- integration (HHT-alpha, Newton on the bearing laws): {integration}",
+              f"- Rayleigh damping: alpha = {rayleigh.alpha:.4g} 1/s, beta = {rayleigh.beta:.4g} s{source}",
+              ("- the same three-component ground acceleration at every support; dead load first (bearings set "
+               "after it), then the tremor")]
+    chart = _pngs(data, "intensity-chart")
+    if chart:
+        lines += ["", _figure_link(data, chart[0], "intensity chart")]
+    return lines
+
+
+def _elements(data: ReportData) -> list[str]:
+    return [m.partition(".")[2] for m in data.matrices.metrics if metric_family(m) == "stress"]
+
+
+def _laws_of(data: ReportData, model: str) -> str:
+    """``law (parameters): bearings`` per law; a parameter that differs between bearings as its range."""
+    for _, d in data.cells:
+        if d is None or d.get("model") != model or not d.get("laws"):
+            continue
+        groups: dict[str, list[tuple[str, dict]]] = {}
+        for bearing, law in d["laws"].items():
+            if law["law"] is not None:
+                groups.setdefault(law["law"], []).append((bearing, law["params"]))
+        parts = []
+        for law, members in groups.items():
+            shown = []
+            for key in members[0][1]:
+                values = [params.get(key) for _, params in members]
+                if all(v == values[0] for v in values):
+                    shown.append(f"{key} = {_g(values[0])}")
+                else:
+                    shown.append(f"{key} = {_g(min(values))} .. {_g(max(values))} (per bearing)")
+            parts.append(f"{law}" + (f" ({', '.join(shown)})" if shown else "") + ": "
+                         + ", ".join(b for b, _ in members))
+        return "; ".join(parts) or "all fixed (JOIN)"
+    return "-"
+
+
+def _modal(data: ReportData) -> list[str]:
+    lines = ["## Modal results", "",
+             ("The lowest modes of each model, every bearing law at its initial tangent (the paper's step-1 "
+              "linearisation: frictionless free, springs and friction at their stick stiffness K_s)."), ""]
+    models = [m for m in data.modal if "modes" in data.modal[m]]
+    if models:
+        count = max(len(data.modal[m]["modes"]) for m in models)
+        rows = []
+        for k in range(count):
+            row = [k + 1]
+            for m in models:
+                modes = data.modal[m]["modes"]
+                row.append(f"{modes[k]['frequency']:.3f} ({modes[k]['label']})" if k < len(modes) else "")
+            rows.append(row)
+        lines += _table(["mode", *(f"{m}: f [Hz] (label)" for m in models)], rows)
+    decks = [m for m in models if "deck" in data.modal[m]]
+    if decks:
+        from bearingfw.bridges.paper import MODES, TABLE2_FE, TABLE2_OMA
+
+        lines += ["", ("The paper's Table 2 modes as its deck sensors see them (the deck's vertical and transverse "
+                       "motion), against the paper's untuned FE model and the measured frequencies:"), ""]
+        rows = [[mode, *(_g(data.modal[m]["deck"].get(mode), 3) for m in decks), TABLE2_FE[mode], TABLE2_OMA[mode]]
+                for mode in MODES]
+        lines += _table(["mode", *(f"{m} [Hz]" for m in decks), "paper, untuned FE [Hz]", "measured [Hz]"], rows)
+    for m, entry in data.modal.items():
+        if "error" in entry:
+            lines.append(f"\n- {m}: modal analysis failed: {entry['error']}")
+    return lines
+
+
+def _matrices(data: ReportData) -> list[str]:
+    mx = data.matrices
+    lines = ["## Comparison matrices", "",
+             (f"Peak responses per model and intensity; in parentheses the ratio to {mx.reference}. All metrics are "
+              "in `matrices.json` and `ratios.json` (`{metric: {model: {intensity: value}}}`, SI units), one CSV per "
+              "metric in `matrices/` and `ratios/`, and every cell's values with the time and place of each peak in "
+              "`cells.csv`.")]
+    for metric in data.table:
+        if metric not in mx.values:
+            continue
+        factor, unit = display_scale(metric)
+        family = metric_family(metric)
+        lines += ["", f"### `{metric}` [{unit}]", "", f"{FAMILIES[family][1]}.", ""]
+        rows = []
+        for model in mx.models:
+            row = [model]
+            for i in mx.intensities:
+                v, r = mx.value(metric, model, i), mx.ratio(metric, model, i)
+                ratio = f" ({r:.2f})" if math.isfinite(r) else ""
+                row.append("-" if not math.isfinite(v) else f"{v * factor:.4g}{ratio}")
+            rows.append(row)
+        lines += _table(["model", *mx.intensities], rows)
+        heat = _pngs(data, f"heatmap_{metric}.")
+        if heat:
+            lines += ["", _figure_link(data, heat[0], f"heatmap {metric}")]
+    lines += ["", "### All metrics", ""]
+    for family, (unit, text) in FAMILIES.items():
+        items = [m.partition(".")[2] for m in mx.metrics if metric_family(m) == family]
+        if items:
+            lines.append(f"- `{family}` ({unit}, {text}): {', '.join(items)}")
+    return lines
+
+
+def _figures(data: ReportData) -> list[str]:
+    lines = ["## Figures", ""]
+    pngs = {p.stem: p for p in _pngs(data, "")}
+    for record in data.records:
+        for intensity in (i.name for i in data.experiment.intensity_list):
+            tag = f"_{record}_{intensity.replace('=', '')}"
+            main = [p for stem, p in pngs.items() if stem.endswith(tag) and not stem.startswith("hysteresis_")]
+            loops = [(m, pngs[f"hysteresis_{m}{tag}"]) for m in data.experiment.model_names
+                     if f"hysteresis_{m}{tag}" in pngs]
+            if not main and not loops:
+                continue
+            lines += [f"### {record}, {intensity}", ""]
+            for p in main:
+                lines += [_figure_link(data, p, p.stem), ""]
+            if loops:
+                lines += ["Bearing hysteresis loops: " + ", ".join(
+                    f"[{m}]({p.relative_to(data.out).as_posix()})" for m, p in loops), ""]
+    return lines
+
+
+def _statistics(data: ReportData) -> list[str]:
+    rows = []
+    for cell_id, d in data.cells:
+        if d is None:
+            rows.append((cell_id, "not computed", "", "", "", "", "", ""))
+            continue
+        st = d.get("stats") or {}
+        rows.append((cell_id, d["status"], f"{d['wall_time']:.2f}", st.get("steps", ""), st.get("substeps", ""),
+                     st.get("iterations", ""), st.get("subdivisions", ""), _g(st.get("energy_error"), 3)))
+    return ["## Run statistics", "",
+            ("Per cell (the last time it was computed): wall time, integration steps and sub-steps, Newton "
+             "iterations, step halvings, and the energy balance error max abs(imbalance) / max abs(input work)."), "",
+            *_table(["cell", "status", "wall time [s]", "steps", "sub-steps", "iterations", "halvings", "energy error"],
+                    rows)]
+
+
+def _failures(data: ReportData) -> list[str]:
+    failed = [(i, d) for i, d in data.cells if d is not None and d.get("status") != "ok"]
+    if not failed:
+        return ["## Failed cells", "", "None."]
+    lines = ["## Failed cells", "", "Each failed cell is tried again on the next run.", ""]
+    for cell_id, d in failed:
+        error = d.get("error") or {}
+        lines += [f"### {cell_id}", "", f"**{error.get('type', 'error')}**: {error.get('message', '')}", "",
+                  "<details><summary>traceback</summary>", "", "```", (error.get("traceback") or "").rstrip(), "```",
+                  "", "</details>", ""]
+    return lines
+
+
+def render_report(data: ReportData) -> str:
+    """The Markdown text of the report."""
+    from bearingfw import __version__
+
+    e = data.experiment
+    when = datetime.datetime.now().isoformat(sep=" ", timespec="seconds")
+    lines = [f"# {e.name}: bearingfw experiment report", ""]
+    if e.description:
+        lines += [e.description.strip(), ""]
+    lines += [f"Generated {when} by bearingfw {__version__} on {platform.node() or 'this machine'}.", ""]
+    for part in (_summary, _inputs, _modal, _matrices, _figures, _statistics, _failures):
+        lines += part(data) + [""]
+    return "\n".join(lines)

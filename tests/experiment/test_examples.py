@@ -1,0 +1,39 @@
+"""The example experiments load, pass the checks, and the paper-study file is the built-in study."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from bearingfw.experiment import (
+    check_experiment,
+    default_experiment,
+    load_experiment,
+    plan_cells,
+)
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+@pytest.mark.parametrize(
+    ("path", "cells"),
+    [("paper-study/paper-study.toml", 25), ("small-bridge/small-bridge.toml", 12),
+     ("real-records/friction-sweep.toml", 36)],
+)
+def test_examples_are_valid(path, cells):
+    experiment = load_experiment(EXAMPLES / path)
+    checked = check_experiment(experiment)  # builds every model, reads every record
+    assert len(plan_cells(experiment)) == cells
+    assert set(checked.table) == set(experiment.output.table)
+
+
+def test_the_paper_study_example_is_the_built_in_study():
+    example = {j.id: j.digest for j in plan_cells(load_experiment(EXAMPLES / "paper-study" / "paper-study.toml"))}
+    assert example == {j.id: j.digest for j in plan_cells(default_experiment())}
+
+
+def test_the_real_records_are_read_with_their_own_time_steps():
+    checked = check_experiment(load_experiment(EXAMPLES / "real-records" / "friction-sweep.toml"))
+    assert checked.records["chuetsu"].dt == 0.01 and checked.records["manjil"].dt == 0.02
+    assert checked.records["manjil"].padded  # its components differ in length

@@ -1,0 +1,92 @@
+"""Executors, the progress display and its ETA, without running a whole experiment."""
+
+from __future__ import annotations
+
+import io
+import sys
+
+import pytest
+
+from bearingfw.experiment import (
+    EXECUTORS,
+    DaskExecutor,
+    ExecutorError,
+    ProcessExecutor,
+    SerialExecutor,
+    make_executor,
+)
+from bearingfw.experiment.execute import CellSummary
+from bearingfw.experiment.progress import Progress, estimate_remaining, format_duration
+
+
+def test_make_executor_checks_its_arguments():
+    assert EXECUTORS == ("serial", "processes", "dask")
+    assert isinstance(make_executor("serial"), SerialExecutor)
+    assert make_executor("processes", 3).workers == 3 and make_executor().workers >= 1
+    assert make_executor("dask", 2, "tcp://x:1").scheduler == "tcp://x:1"
+    with pytest.raises(ExecutorError, match="unknown executor 'threads'; executors: serial, processes, dask"):
+        make_executor("threads")
+    with pytest.raises(ExecutorError, match="a scheduler address is for the dask executor"):
+        make_executor("processes", scheduler="tcp://x:1")
+    with pytest.raises(ExecutorError, match="workers must be an integer >= 1, got 0"):
+        make_executor("processes", 0)
+
+
+def test_without_dask_the_error_names_the_extra(monkeypatch, tmp_path):
+    monkeypatch.setitem(sys.modules, "distributed", None)  # import distributed -> ImportError
+    with pytest.raises(ExecutorError, match=r"pip install 'bearingfw\[dask\]'"):
+        DaskExecutor().run([object()], store=None, done=print)
+
+
+def test_process_executor_records_a_dead_worker_and_goes_on(tmp_path, monkeypatch):
+    """A worker that dies (here: os._exit in the worker) breaks the pool; its cell is recorded as failed."""
+    from tiny_experiment import write_tiny
+
+    from bearingfw.experiment import Store, load_experiment, plan_cells
+
+    jobs = plan_cells(load_experiment(write_tiny(tmp_path / "spec", models=("M1",), levels=("D_0", "D_II"))))
+    store = Store(tmp_path / "out")
+    seen = []
+    executor = ProcessExecutor(1)
+    from bearingfw.experiment import executors
+
+    monkeypatch.setattr(executors, "compute_and_store", _die_on_d0)
+    executor.run(jobs, store, seen.append)
+    assert [(s.id, s.status) for s in seen] == [("M1/tremor/D_0", "failed"), ("M1/tremor/D_II", "ok")]
+    assert "worker process running this cell died" in store.read_cell("M1/tremor/D_0")["error"]["message"]
+
+
+def _die_on_d0(job, root):
+    import os
+
+    from bearingfw.experiment.execute import compute_and_store
+
+    if job.intensity.name == "D_0":
+        os._exit(9)
+    return compute_and_store(job, root)
+
+
+def test_durations_and_the_eta_weigh_each_model():
+    assert format_duration(7.2) == "7 s" and format_duration(245) == "4:05" and format_duration(3723) == "1:02:03"
+    assert estimate_remaining({}, {"a": 3}, 2) is None
+    # two fast cells done, the slow model not seen yet: counted at the mean (1 s) -> (3 + 2) / 2 workers
+    assert estimate_remaining({"fast": [1.0, 1.0]}, {"fast": 3, "slow": 2}, 2) == pytest.approx(2.5)
+    # once a slow cell is known, the slow model's cells cost what it did
+    assert estimate_remaining({"fast": [1.0], "slow": [100.0]}, {"fast": 1, "slow": 1}, 2) == pytest.approx(50.5)
+
+
+def test_progress_lines_show_done_of_total_and_an_eta():
+    stream = io.StringIO()
+    progress = Progress(stream)
+    progress.begin(["a", "a", "b"], skipped=2, executor="serial", workers=1)
+    progress.cell(CellSummary("a/r/D_0", "a", "ok", 1.5))
+    progress.cell(CellSummary("a/r/D_I", "a", "failed", 0.5, "boom"))
+    progress.finish("done")
+    lines = stream.getvalue().splitlines()
+    assert lines[0] == "running 3 cell(s) on serial (1 worker(s)); 2 finished cell(s) kept"
+    assert lines[1].startswith("[1/3] a/r/D_0 ok (1.5 s) | elapsed ") and "ETA" in lines[1]
+    assert lines[2].startswith("[2/3] a/r/D_I FAILED: boom (0.5 s)")
+    assert lines[-1] == "done"
+    quiet = io.StringIO()
+    Progress(quiet, quiet=True).begin(["a"], 0, "serial", 1)
+    assert quiet.getvalue() == ""

@@ -1,0 +1,189 @@
+"""A whole run of the tiny experiment: the store, matrices, CSVs, figures, report; reruns and changes."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+
+import pytest
+from tiny_experiment import write_tiny
+
+from bearingfw.experiment import (
+    ProcessExecutor,
+    SerialExecutor,
+    Store,
+    load_experiment,
+    plan_cells,
+    run_experiment,
+)
+
+MODELS = ("M0", "M1", "M2")
+LEVELS = ("D_0", "D_II")
+
+
+@pytest.fixture(scope="module")
+def first(tmp_path_factory):
+    """The tiny experiment run once on the default executor (local processes), figures on."""
+    folder = tmp_path_factory.mktemp("tiny")
+    path = write_tiny(folder / "spec", figures=True)
+    out = folder / "out"
+    summary = run_experiment(load_experiment(path), out, ProcessExecutor(2))
+    return path, out, summary
+
+
+def _json(path):
+    return json.loads(path.read_text())
+
+
+def test_every_cell_is_computed_and_stored_with_its_digest(first):
+    path, out, summary = first
+    assert summary.exit_code == 0 and not summary.failed and not summary.missing
+    assert summary.cells == 6 and len(summary.computed) == 6 and not summary.skipped
+    jobs = plan_cells(load_experiment(path))
+    store = Store(out)
+    for job in jobs:
+        document = store.read_cell(job.id)
+        assert document["status"] == "ok" and document["digest"] == job.digest and document["error"] is None
+        assert store.cell_npz(job.id).stat().st_size > 1000
+        histories, meta = store.read_histories(job.id)
+        assert histories["time"].shape[0] == 1001  # 10 s at 0.01 s, the preload state first
+        assert meta["bearings"] == ["1A", "1B", "2A", "2B", "3A", "3B"] and meta["sliding"]["2A"] == []
+    manifest = _json(out / "manifest.json")
+    assert manifest["state"] == "finished" and all(c["finished"] for c in manifest["cells"])
+    assert not list(out.rglob(".partial-*"))  # no temporary file left behind
+
+
+def test_matrices_json_is_metric_model_intensity(first):
+    _, out, _ = first
+    matrices = _json(out / "matrices.json")
+    for metric in ("stress.G2", "stress_dynamic.G4", "bearing_force.1B", "bearing_shear.2A", "slip.1B",
+                   "bearing_displacement.3B", "friction_ratio.1B", "deck_acceleration.y"):
+        assert set(matrices[metric]) == set(MODELS)
+        assert all(list(matrices[metric][m]) == list(LEVELS) for m in MODELS)
+    # not applicable: no friction in a spring, nothing slides in the fixed bearing 2A
+    assert matrices["friction_ratio.1B"]["M1"]["D_II"] > 0.04 and matrices["friction_ratio.1B"]["M0"]["D_0"] == 0.0
+    assert matrices["slip.1B"]["M1"]["D_0"] is None and matrices["bearing_force.2A"]["M2"]["D_0"] is None
+    assert matrices["friction_ratio.2A"]["M1"]["D_0"] is None
+    # the friction law caps the bearing's force at mu N: the ratio reaches mu = 0.04 and not more
+    assert matrices["friction_ratio.1B"]["M2"]["D_II"] == pytest.approx(0.04, rel=1e-9)
+    ratios = _json(out / "ratios.json")  # reference M1 in the tiny file
+    assert ratios["stress.G4"]["M1"] == {"D_0": 1.0, "D_II": 1.0}
+    assert ratios["stress.G4"]["M0"]["D_II"] == pytest.approx(
+        matrices["stress.G4"]["M0"]["D_II"] / matrices["stress.G4"]["M1"]["D_II"], rel=1e-12)
+
+
+def test_dynamic_stresses_of_the_linear_models_scale_with_the_record(first):
+    """M0 and M1 are linear: their tremor stresses scale by D_II / D_0 = 4.6, so the ratio is the same."""
+    _, out, _ = first
+    matrices = _json(out / "matrices.json")
+    for element in ("G2", "G4"):
+        m = matrices[f"stress_dynamic.{element}"]
+        for model in ("M0", "M1"):
+            assert m[model]["D_II"] / m[model]["D_0"] == pytest.approx(0.46 / 0.10, rel=1e-6)
+        total = matrices[f"stress.{element}"]
+        assert total["M1"]["D_II"] / total["M1"]["D_0"] < 2  # the dead load does not scale
+
+
+def test_csv_files_hold_the_matrices(first):
+    _, out, _ = first
+    matrices = _json(out / "matrices.json")
+    with open(out / "matrices" / "stress.G4.csv", newline="") as handle:
+        rows = list(csv.reader(handle))
+    assert rows[0] == ["model", *LEVELS]
+    assert [r[0] for r in rows[1:]] == list(MODELS)
+    for row in rows[1:]:
+        assert [float(v) for v in row[1:]] == [matrices["stress.G4"][row[0]][i] for i in LEVELS]
+    with open(out / "matrices" / "slip.1B.csv", newline="") as handle:
+        assert list(csv.reader(handle))[2] == ["M1", "", ""]  # not applicable: empty
+    assert (out / "ratios" / "stress.G4.csv").is_file()
+    with open(out / "cells.csv", newline="") as handle:
+        cells = list(csv.DictReader(handle))
+    row = next(r for r in cells if r["model"] == "M2" and r["intensity"] == "D_II" and r["metric"] == "stress.G4")
+    assert float(row["value"]) == matrices["stress.G4"]["M2"]["D_II"] and row["unit"] == "Pa"
+    assert 0 < float(row["time"]) <= 10 and row["at"].startswith("end ") and float(row["pga_h10"]) == pytest.approx(0.46)
+    assert len(cells) == 6 * len(matrices)
+
+
+def test_figures_exist_and_are_not_empty(first):
+    _, out, summary = first
+    figures = out / "figures"
+    table = ("stress.G4", "stress_dynamic.G4", "bearing_force.1B", "friction_ratio.1B", "deck_acceleration.y")
+    stems = ["intensity-chart", *(f"heatmap_{m}" for m in table)]
+    for level in LEVELS:
+        stems += [f"stress_tremor_{level}", f"bearing-force_1B_tremor_{level}", f"friction-ratio_1B_tremor_{level}"]
+        stems += [f"hysteresis_{m}_tremor_{level}" for m in MODELS]
+    for stem in stems:
+        for suffix in ("png", "svg"):
+            assert (figures / f"{stem}.{suffix}").stat().st_size > 5000, stem
+    assert len(summary.files["figures"]) == 2 * len(stems)
+
+
+def test_report_has_every_section(first):
+    _, out, _ = first
+    text = (out / "report.md").read_text()
+    for heading in ("# tiny: bearingfw experiment report", "## Summary", "## Inputs", "### Structure",
+                    "### Bearing models", "### Records", "### Intensities", "### Analysis", "## Modal results",
+                    "## Comparison matrices", "### `stress.G4` [MPa]", "## Figures", "## Run statistics",
+                    "## Failed cells"):
+        assert heading in text, heading
+    assert "SYNTHETIC" in text and "None." in text.split("## Failed cells")[1]
+    assert "![stress_tremor_D_II](figures/stress_tremor_D_II.png)" in text
+    assert "| M2/tremor/D_II | ok |" in text
+    modal = _json(out / "modal.json")
+    assert modal["M0"]["modes"][0]["label"] == "longitudinal 1"  # frictionless: the deck swings along the bridge
+    assert modal["M1"]["modes"][0]["frequency"] > modal["M0"]["modes"][0]["frequency"]
+
+
+def test_a_rerun_computes_nothing_and_gives_the_same_files(first, tmp_path):
+    path, out, _ = first
+    before = (out / "matrices.json").read_bytes()
+    again = run_experiment(load_experiment(path), out, SerialExecutor())
+    assert again.computed == () and len(again.skipped) == 6 and again.exit_code == 0
+    assert (out / "matrices.json").read_bytes() == before
+
+
+def test_changed_inputs_recompute_only_their_cells(first, tmp_path):
+    path, out, _ = first
+    copy = tmp_path / "out"
+    import shutil
+
+    shutil.copytree(out, copy)
+    text = path.read_text().replace('[models.M2]\npreset = "M2"', '[models.M2]\npreset = "M2"\nfriction = 0.03')
+    text = text.replace("draw = true", "draw = false")  # figures are not what this test is about
+    changed = path.parent / "changed.toml"
+    changed.write_text(text)
+    summary = run_experiment(load_experiment(changed), copy, SerialExecutor())
+    assert sorted(summary.computed) == ["M2/tremor/D_0", "M2/tremor/D_II"]
+    matrices = _json(copy / "matrices.json")
+    assert matrices["friction_ratio.1B"]["M2"]["D_II"] == pytest.approx(0.03, rel=1e-9)
+    assert matrices["stress.G4"]["M1"] == _json(out / "matrices.json")["stress.G4"]["M1"]
+    forced = run_experiment(load_experiment(changed), copy, SerialExecutor(), force=True, models=("M0",),
+                            intensities=("D_0",))
+    assert forced.computed == ("M0/tremor/D_0",) and forced.skipped == ()
+
+
+def test_a_record_file_is_hashed_by_content(tmp_path):
+    """A record read from a file: editing the file recomputes the cell, moving it does not."""
+    from bearingfw.motion import TremorParameters, synthetic_tremor
+
+    record = synthetic_tremor(1, TremorParameters(duration=10.0, dt=0.01, decay=2.0))
+    data = tmp_path / "data"
+    data.mkdir()
+    rows = "\n".join(f"{a:.8e},{b:.8e},{c:.8e}" for a, b, c in zip(record.h1, record.h2, record.v))
+    (data / "tremor.csv").write_text(rows + "\n")
+    spec = write_tiny(tmp_path / "spec", models=("M1",), levels=("D_0",))
+    text = spec.read_text().replace(
+        "seed = 1\ntremor = { duration = 10.0, dt = 0.01, decay = 2.0 }",
+        f'files = ["{(data / "tremor.csv").as_posix()}"]\ndt = 0.01\nunits = "m/s^2"')
+    spec.write_text(text)
+    out = tmp_path / "out"
+    assert run_experiment(load_experiment(spec), out, SerialExecutor()).computed == ("M1/tremor/D_0",)
+    moved = tmp_path / "moved"
+    (data).rename(moved)
+    spec.write_text(text.replace(data.as_posix(), moved.as_posix()))
+    assert run_experiment(load_experiment(spec), out, SerialExecutor()).computed == ()
+    values = (moved / "tremor.csv").read_text().replace("e-", "E-", 1)  # same numbers, other bytes
+    (moved / "tremor.csv").write_text(values)
+    assert run_experiment(load_experiment(spec), out, SerialExecutor()).computed == ("M1/tremor/D_0",)
+    assert not math.isnan(_json(out / "matrices.json")["stress.G4"]["M1"]["D_0"])

@@ -1,0 +1,146 @@
+"""The experiment file: the built-in default, and errors that name the key's path and what is allowed."""
+
+from __future__ import annotations
+
+import tomllib
+
+import pytest
+from tiny_experiment import tiny_toml
+
+from bearingfw.bridges import PRESETS
+from bearingfw.experiment import (
+    DEFAULT_TOML,
+    SpecError,
+    check_experiment,
+    default_experiment,
+    load_experiment,
+    parse_experiment,
+)
+from bearingfw.motion import LEVEL_NAMES
+
+
+def test_the_default_is_the_papers_study():
+    e = default_experiment()
+    assert e.model_names == ("M0", "M1", "M2", "fixed", "bouc-wen")
+    assert {m.preset for m in e.models} == set(PRESETS)
+    assert [i.name for i in e.intensity_list] == list(LEVEL_NAMES)
+    assert [i.pga_h10 for i in e.intensity_list] == [0.10, 0.23, 0.46, 0.75, 1.10]
+    assert e.reference_model == "M2"
+    assert e.records[0].seed == 0 and e.records[0].components == ("h1", "h2", "v")
+    rayleigh = e.damping.rayleigh()
+    assert rayleigh.alpha == pytest.approx(0.21, abs=0.005) and rayleigh.beta == pytest.approx(0.00208, rel=0.01)
+    assert e.integration.alpha == -0.05 and e.integration.dt_integration == 0.005
+    # every key the default file writes out is what the classes default to anyway (it documents them)
+    assert tomllib.loads(DEFAULT_TOML)["name"] == e.name == "paper-study"
+
+
+def test_a_file_loads_with_paths_relative_to_it(tmp_path):
+    path = tmp_path / "sub" / "x.toml"
+    path.parent.mkdir()
+    path.write_text('name = "x"\n[models.a]\npreset = "M0"\n[records.r]\nfiles = ["a.AT2", "b.AT2", "c.AT2"]\n')
+    e = load_experiment(path)
+    assert e.base_dir == path.parent.resolve()
+    assert e.resolve_path("a.AT2") == path.parent.resolve() / "a.AT2"
+    assert e.reference_model == "a"  # no M2: the first model
+
+
+def _error(text: str) -> str:
+    with pytest.raises(SpecError) as caught:
+        parse_experiment(text, origin="exp.toml")
+    return str(caught.value)
+
+
+BASE = 'name = "x"\n[models.M2]\npreset = "M2"\n[records.r]\nseed = 0\n'
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ('colour = "red"\n' + BASE, "exp.toml: colour: unknown key; allowed in the top level: name, description"),
+        (BASE + "mu = 0.05\n", "exp.toml: records.r.mu: unknown key; allowed in [records.r]: seed, tremor, files"),
+        ('name = "x"\n[models.M2]\npreset = "M2"\nmu = 0.05\n[records.r]\nseed = 0\n',
+         "models.M2.mu: unknown key; allowed in [models.M2]: preset, ks, friction, law, params"),
+        (BASE + "[integration]\nalpha = 'big'\n", "integration.alpha: parameter 'alpha' must be a real number"),
+        (BASE + "[integration]\nalpha = 0.5\n",
+         "integration.alpha: parameter 'alpha' = 0.5 is outside the allowed range"),
+        (BASE + "[integration]\nmax_iterations = 2.5\n",
+         "integration.max_iterations: parameter 'max_iterations' must be an integer"),
+        (BASE + "[intensities]\nlevels = 'D_0'\n",
+         "intensities.levels: field 'levels' must be a list of levels among D_0"),
+        (BASE + "[intensities]\nlevels = ['D_9']\n", "intensities.levels"),
+        (BASE + "[intensities]\nlevels = ['D_0']\npga_h10 = [0.1]\n", "intensities: give 'levels'"),
+        (BASE + "[intensities]\nvalues = { D_II = 0.05 }\n",
+         "intensities.values: IntensityLevels: the levels must increase"),
+        (BASE.replace('seed = 0', 'seed = -1'), "records.r.seed: field 'seed' must be an integer >= 0"),
+        (BASE.replace('seed = 0', 'seed = 0\nfiles = ["a", "b", "c"]'), "records.r: give either 'seed'"),
+        (BASE.replace('seed = 0', 'seed = 0\ncomponents = ["h1", "x", "v"]'),
+         "records.r.components: field 'components' must be 3 entries"),
+        (BASE.replace('"M2"', '"M9"'), "models.M2.preset: field 'preset' must be one of M0, M1, M2, fixed, bouc-wen"),
+        (BASE.replace('preset = "M2"', 'preset = "M2"\nparams = { k = 1.0 }'), "models.M2: 'params' go with 'law'"),
+        (BASE.replace('preset = "M2"', 'law = "linear-spring"\nks = 1e8'),
+         "models.M2: 'ks' and 'friction' go with 'preset'"),
+        (BASE.replace('preset = "M2"', 'preset = "M2"\nfriction = 1.5'),
+         "models.M2.friction: parameter 'friction' = 1.5"),
+        (BASE + "[damping]\nratios = [[1.5, 0.02]]\n",
+         "damping.ratios: field 'ratios' must be two [frequency Hz, damping ratio] pairs"),
+        (BASE + "[damping]\nalpha = 0.2\n", "damping: give both 'alpha' and 'beta'"),
+        (BASE + "[damping]\nratios = [[1.0, 0.10], [3.0, 0.001]]\n", "damping.ratios: rayleigh_from_ratios"),
+        (BASE + "[structure]\nbuilder = 'not a function'\n",
+         "structure.builder: field 'builder' must be 'reference' or 'package.module:function'"),
+        (BASE + "[structure]\nbearings = ['1A']\n", "structure.bearings: only for user builders"),
+        (BASE + "[output]\naggregate = 'median'\n",
+         "output.aggregate: parameter 'aggregate' must be one of 'ec8', 'max', 'mean'"),
+        (BASE + "[figures]\nintensities = ['D_V']\n", "figures.intensities: 'D_V' is not among D_0"),
+        (BASE + "[figures]\ndraw = 1\n", "figures.draw: field 'draw' must be true or false"),
+        ('reference = "M7"\n' + BASE, "reference: 'M7' is not a model; models: M2"),
+        ('name = "a b"\n' + BASE[len('name = "x"\n'):], "name: field 'name' must be a name of letters"),
+        (BASE.replace('name = "x"\n', ""), "name: missing"),
+        ('name = "x"\n[records.r]\nseed = 0\n', "models: the experiment needs at least one [models.<name>] table"),
+        ('name = "x"\nmodels = 3\n[records.r]\nseed = 0\n', "models: must be tables [models.<name>]"),
+        (BASE + "[output\n", "exp.toml: not valid TOML"),
+    ],
+)
+def test_errors_name_the_key_path_and_what_is_allowed(text, expected):
+    assert expected in _error(text)
+
+
+def test_unknown_keys_list_every_allowed_key():
+    message = _error(BASE + "[output]\ntabel = []\n")
+    assert message.startswith("exp.toml: output.tabel: unknown key; allowed in [output]: ")
+    for key in ("table", "aggregate", "histories", "every", "report"):
+        assert key in message
+
+
+def test_what_needs_the_plugins_or_the_users_code_is_checked_before_running(tmp_path):
+    def checked(text):
+        path = tmp_path / "e.toml"
+        path.write_text(text)
+        with pytest.raises(SpecError) as caught:
+            check_experiment(load_experiment(path))
+        return str(caught.value)
+
+    message = checked(BASE.replace('preset = "M2"', 'law = "no-such-law"'))
+    assert message.startswith("models.M2: ") and "unknown bearing law 'no-such-law'; known laws: " in message
+    message = checked(BASE.replace('preset = "M2"', 'law = "regularized-coulomb"\nparams = { k = 4e8 }'))
+    assert message.startswith("models.M2: ") and "missing parameter(s) 'mu'" in message
+    assert "structure.options.element_length: parameter 'element_length' = 99.0 is outside" in checked(
+        BASE + "[structure]\noptions = { element_length = 99.0 }\n")
+    assert "structure.options.spam: unknown key; allowed in [structure.options]: spans," in checked(
+        BASE + "[structure]\noptions = { spam = 1 }\n")
+    assert "structure.builder: cannot import module 'no_such_module_xyz'" in checked(
+        BASE + "[structure]\nbuilder = 'no_such_module_xyz:build'\n")
+    assert "structure.elements: the model has no element 'Z9'" in checked(BASE + "[structure]\nelements = ['Z9']\n")
+    assert "figures.bearing: the model has no connector '9Z'" in checked(BASE + "[figures]\nbearing = '9Z'\n")
+    assert "output.table: 'stress.9Z': '9Z' is not recorded" in checked(BASE + "[output]\ntable = ['stress.9Z']\n")
+    assert "output.table: 'strain.S1': unknown metric family 'strain'" in checked(
+        BASE + "[output]\ntable = ['strain.S1']\n")
+    assert "records.r:" in checked(BASE.replace("seed = 0", 'files = ["a.AT2", "b.AT2", "c.AT2"]'))
+    assert "plugins: module 'no_such_plugin_xyz'" in checked('plugins = ["no_such_plugin_xyz"]\n' + BASE)
+
+
+def test_the_tiny_experiment_of_these_tests_is_valid(tiny):
+    e = load_experiment(tiny)
+    checked = check_experiment(e)
+    assert checked.elements == ("G2", "G4") and checked.nodes == ("G2", "G6")
+    assert checked.bearings == ("1A", "1B", "2B", "3A", "3B")  # every connector that is not JOIN
+    assert "slow" not in e.model_names and tiny_toml().count("[models.") == 3

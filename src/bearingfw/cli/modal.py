@@ -83,7 +83,8 @@ def _plot(modal, data: dict, directory) -> list:
     from bearingfw.analysis import automac
     from bearingfw.bridges import BridgeParameters
     from bearingfw.bridges.study import deck_observation
-    from bearingfw.tuning.plot import plot_mac, plot_mode, save
+    from bearingfw.plotting import save
+    from bearingfw.tuning.plot import plot_mac, plot_mode
 
     written = []
     chosen = [(name, entry["index"] - 1) for name, entry in data["paper"].items()]

@@ -1,31 +1,21 @@
 """Figures of modal results: mode shapes (elevation and plan) and MAC tables.
 
 Built on :class:`matplotlib.figure.Figure` with the Agg canvas, never pyplot: no window and no
-global backend switch, so they are safe in scripts and tests. :func:`save` writes PNG and SVG.
+global backend switch, so they are safe in scripts and tests. :func:`bearingfw.plotting.save` writes them.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from pathlib import Path
 
 import numpy as np
-from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from bearingfw.analysis import ModalResult
 from bearingfw.model import FrameElement, TrussElement
+from bearingfw.plotting import new_figure
 
-__all__ = ["FORMATS", "plot_mac", "plot_mode", "save"]
-
-FORMATS = ("png", "svg")
-
-
-def _figure(width: float, height: float) -> Figure:
-    figure = Figure(figsize=(width, height), layout="constrained")
-    FigureCanvasAgg(figure)
-    return figure
-
+__all__ = ["plot_mac", "plot_mode"]
 
 def _members(modal: ModalResult) -> np.ndarray:
     """Node index pairs of every frame and truss member, (n, 2)."""
@@ -51,7 +41,7 @@ def plot_mode(modal: ModalResult, mode: int, title: str | None = None, scale: fl
     k = scale if scale is not None else 0.05 * size / biggest
     moved = xyz + k * u
     pairs = _members(modal)
-    figure = _figure(9.0, 5.0)
+    figure = new_figure(9.0, 5.0)
     axes = figure.subplots(2, 1, sharex=True)
     for ax, (a, b), name in zip(axes, ((0, 2), (0, 1)), ("elevation: z [m]", "plan: y [m]"), strict=True):
         for points, style in ((xyz, {"color": "0.75", "lw": 0.6}), (moved, {"color": "tab:blue", "lw": 0.9})):
@@ -70,7 +60,7 @@ def plot_mac(table, rows: Sequence[str], columns: Sequence[str] | None = None, t
     """A MAC (or AutoMAC) table as an annotated heatmap, 0 (white) to 1 (dark)."""
     table = np.asarray(table, dtype=float)
     columns = rows if columns is None else columns
-    figure = _figure(1.2 + 0.9 * table.shape[1], 1.0 + 0.8 * table.shape[0])
+    figure = new_figure(1.2 + 0.9 * table.shape[1], 1.0 + 0.8 * table.shape[0])
     ax = figure.subplots()
     image = ax.imshow(table, vmin=0.0, vmax=1.0, cmap="Blues")
     for (r, c), value in np.ndenumerate(table):
@@ -82,13 +72,3 @@ def plot_mac(table, rows: Sequence[str], columns: Sequence[str] | None = None, t
     return figure
 
 
-def save(figure: Figure, directory, stem: str) -> list[Path]:
-    """Write ``figure`` as ``stem``.png and ``stem``.svg in ``directory`` (created if needed)."""
-    folder = Path(directory)
-    folder.mkdir(parents=True, exist_ok=True)
-    paths = []
-    for suffix in FORMATS:
-        path = folder / f"{stem}.{suffix}"
-        figure.savefig(path, dpi=150)
-        paths.append(path)
-    return paths

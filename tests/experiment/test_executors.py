@@ -90,3 +90,20 @@ def test_progress_lines_show_done_of_total_and_an_eta():
     quiet = io.StringIO()
     Progress(quiet, quiet=True).begin(["a"], 0, "serial", 1)
     assert quiet.getvalue() == ""
+
+
+def test_a_broken_pool_never_overwrites_a_cell_already_committed(tmp_path):
+    """When one worker dies, its siblings' futures fail too, though they may have stored their cell."""
+    from tiny_experiment import write_tiny
+
+    from bearingfw.experiment import Store, load_experiment, plan_cells
+    from bearingfw.experiment.execute import compute_and_store
+
+    job = plan_cells(load_experiment(write_tiny(tmp_path / "spec", models=("M1",), levels=("D_0",))))[0]
+    store = Store(tmp_path / "out")
+    compute_and_store(job, str(store.root))
+    before = store.read_cell(job.id)
+    seen = []
+    ProcessExecutor._failed(store, job, seen.append)
+    assert store.read_cell(job.id) == before and before["status"] == "ok"
+    assert [(s.id, s.status) for s in seen] == [(job.id, "ok")]

@@ -187,3 +187,14 @@ def test_a_record_file_is_hashed_by_content(tmp_path):
     (moved / "tremor.csv").write_text(values)
     assert run_experiment(load_experiment(spec), out, SerialExecutor()).computed == ("M1/tremor/D_0",)
     assert not math.isnan(_json(out / "matrices.json")["stress.G4"]["M1"]["D_0"])
+
+
+def test_without_histories_the_run_completes_without_figures(tmp_path):
+    """Figures draw the stored histories; with none kept the run still writes matrices and report."""
+    path = write_tiny(tmp_path / "spec", models=("M0",), levels=("D_0",), figures=True,
+                      **{"[output]\n": "[output]\nhistories = false\n"})
+    out = tmp_path / "out"
+    summary = run_experiment(load_experiment(path), out, SerialExecutor())
+    assert summary.failed == () and summary.files["figures"] == []
+    assert (out / "matrices.json").is_file() and (out / "report.md").is_file()
+    assert json.loads((out / "manifest.json").read_text())["state"] == "finished"

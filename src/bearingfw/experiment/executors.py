@@ -119,6 +119,12 @@ class ProcessExecutor:
 
     @staticmethod
     def _failed(store: Store, job: CellJob, done: Done) -> None:
+        # A dying worker breaks the whole pool: siblings that had already committed their cell
+        # also report BrokenProcessPool. Their stored result stands; never overwrite it.
+        document = store.read_cell(job.id)
+        if document is not None and document.get("digest") == job.digest and document.get("status") == "ok":
+            done(CellSummary(document["id"], document["model"], "ok", document["wall_time"]))
+            return
         exc = WorkerDied(
             "the worker process running this cell died (killed, or crashed, e.g. out of memory); the cells "
             "running beside it were lost with it. It is tried again on the next run."

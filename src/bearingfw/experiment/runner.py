@@ -323,7 +323,18 @@ def run_experiment(
         manifest("stopped")
         raise
     run_time = time.perf_counter() - run_start
+    try:
+        return _post_process(experiment, checked, store, jobs, todo, skipped, histories, registry, executor,
+                             progress, wall, run_time, manifest)
+    except BaseException:
+        # The cells are safe in the store; say in the manifest that the summary step did not finish.
+        manifest("post-processing failed")
+        raise
 
+
+def _post_process(experiment, checked, store, jobs, todo, skipped, histories, registry, executor, progress, wall,
+                  run_time, manifest) -> RunSummary:
+    """Matrices, records and modal information, figures, report and summary of a run whose cells are done."""
     documents = _documents(store, jobs)
     done = [d for d in documents if d is not None]
     failed = tuple((d["id"], (d.get("error") or {}).get("message", "")) for d in done if d.get("status") != "ok")
@@ -340,7 +351,9 @@ def run_experiment(
     files["modal.json"] = str(store.write_json("modal.json", modal))
     mu = experiment.model("M2").friction_coefficient if "M2" in experiment.model_names else None
     findings = tuple(paper_findings(matrices, mu or 0.04))
-    figures = _draw(experiment, checked, store, matrices, points, registry, done) if experiment.figures.draw else []
+    # The figures draw the cells' histories: without stored histories there is nothing to draw.
+    draw = experiment.figures.draw and histories
+    figures = _draw(experiment, checked, store, matrices, points, registry, done) if draw else []
     files["figures"] = [str(p) for p in figures]
     summary = RunSummary(
         experiment.name, str(store.root), executor.name, executor.workers, len(jobs), tuple(j.id for j in todo),

@@ -63,6 +63,10 @@ class Context:
     def forces(self, steps: int, n: int | None = None):
         return normal_force_histories(steps, *self.normal_force_range, n=n)
 
+    def paths_with_forces(self, n: int | None = None):
+        """A displacement path and a normal-force history of the same length."""
+        return self.paths(n).flatmap(lambda path: st.tuples(st.just(path), self.forces(len(path), n)))
+
     def hypothesis(self, strategy: st.SearchStrategy):
         """Decorate a one-argument property: run it at once over examples drawn from ``strategy``."""
 
@@ -202,9 +206,7 @@ def check_vectorised(ctx: Context) -> None:
     """n connectors answered together equal each connector answered alone."""
     law = ctx.law
     n = 3
-    example = ctx.paths(n).flatmap(lambda path: st.tuples(st.just(path), ctx.forces(len(path), n)))
-
-    @ctx.hypothesis(example)
+    @ctx.hypothesis(ctx.paths_with_forces(n))
     def prop(example):
         path, normal = example
         together, _, _ = run_history(law, path, normal, ctx.dt, n=n)
@@ -217,9 +219,7 @@ def check_vectorised(ctx: Context) -> None:
 def check_tangent(ctx: Context) -> None:
     """The tangent equals the finite-difference derivative of the force (central, or one-sided at a kink)."""
     law, dims = ctx.law, ctx.law.dims
-    example = ctx.paths().flatmap(lambda path: st.tuples(st.just(path), ctx.forces(len(path))))
-
-    @ctx.hypothesis(example)
+    @ctx.hypothesis(ctx.paths_with_forces())
     def prop(example):
         path, normal = example
         state = law.initial_state(1)
@@ -275,9 +275,7 @@ def check_dissipation(ctx: Context) -> None:
 def check_odd(ctx: Context) -> None:
     """A symmetric law answers the mirrored path with the mirrored force."""
     law = ctx.law
-    example = ctx.paths().flatmap(lambda path: st.tuples(st.just(path), ctx.forces(len(path))))
-
-    @ctx.hypothesis(example)
+    @ctx.hypothesis(ctx.paths_with_forces())
     def prop(example):
         path, normal = example
         forward, _, _ = run_history(law, path, normal, ctx.dt)
@@ -289,9 +287,7 @@ def check_odd(ctx: Context) -> None:
 def check_force_bound(ctx: Context) -> None:
     """The force never exceeds the bound the law declares with force_bound(normal_force)."""
     law = ctx.law
-    example = ctx.paths().flatmap(lambda path: st.tuples(st.just(path), ctx.forces(len(path))))
-
-    @ctx.hypothesis(example)
+    @ctx.hypothesis(ctx.paths_with_forces())
     def prop(example):
         path, normal = example
         forces, _, _ = run_history(law, path, normal, ctx.dt)

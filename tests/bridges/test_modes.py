@@ -40,8 +40,8 @@ def test_automac_of_the_four_modes(untuned, observation):
 
 @pytest.mark.xfail(
     strict=True,
-    reason="with rotation-free bearings the soffit eccentricity restrains the arch span's antisymmetric first "
-    "mode hardly at all: fixing every bearing moves it by about -1 %, not the paper's +21 % (see the report)",
+    reason="no bearing restraint reaches the arch span's antisymmetric first mode in this layout: fixing every "
+    "bearing moves it by about -1 %, not the paper's +21 % (the variants tried: bearingfw.bridges docstring)",
 )
 def test_fixing_every_bearing_lifts_the_first_vertical_frequency(untuned, observation):
     _, fixed = evaluate(reference_bridge("fixed"), [("vertical 1", FIXED_F1)], observation=observation, n_modes=12)

@@ -107,3 +107,34 @@ def test_a_broken_pool_never_overwrites_a_cell_already_committed(tmp_path):
     ProcessExecutor._failed(store, job, seen.append)
     assert store.read_cell(job.id) == before and before["status"] == "ok"
     assert [(s.id, s.status) for s in seen] == [(job.id, "ok")]
+
+
+class _Terminal(io.StringIO):
+    def isatty(self):
+        return True
+
+
+def test_on_a_terminal_the_progress_line_is_rewritten_in_place():
+    stream = _Terminal()
+    progress = Progress(stream)
+    progress.begin(["a", "a", "a"], skipped=0, executor="processes", workers=2, thinned=0)
+    progress.cell(CellSummary("a/r/D_0", "a", "ok", 1.0))
+    progress.cell(CellSummary("a/r/D_I", "a", "failed", 0.5, "boom"))
+    progress.cell(CellSummary("a/r/D_II", "a", "ok", 1.0))
+    progress.note("drawing the figures (2 process(es))")
+    progress.finish("done")
+    text = stream.getvalue()
+    first, failed, last = "[1/3] a/r/D_0 ok", "[2/3] a/r/D_I FAILED: boom", "[3/3] a/r/D_II ok"
+    assert text.startswith("running 3 cell(s) on processes (2 worker(s))\n\r\033[K" + first)
+    assert f"\r\033[K{failed}" in text  # replaces the open line, and stays (a newline follows)
+    assert "\r" not in text.split(failed)[1].split("\n")[0] and " | ETA " in text.split(failed)[1].split("\n")[0]
+    # the last cell's line stays, the notes follow on lines of their own
+    assert text.endswith("\n") and text.splitlines()[-2:] == ["drawing the figures (2 process(es))", "done"]
+    assert last in text.splitlines()[-3]
+
+
+def test_progress_begin_says_what_is_kept_and_thinned():
+    stream = io.StringIO()
+    Progress(stream).begin(["a"], skipped=4, executor="serial", workers=1, thinned=3)
+    assert stream.getvalue() == ("running 1 cell(s) on serial (1 worker(s)); 4 finished cell(s) kept (3 with their "
+                                 "histories thinned to the new [output] every)\n")

@@ -61,3 +61,28 @@ def test_json_summary_tables_and_a_partial_run(capsys, tmp_path):
     assert code == 0
     assert "stress.G4 [MPa]  (ratio to M1)" in stdout and "friction_ratio.1B [-]" in stdout
     assert f"results: {out}" in stdout
+
+
+def test_a_directory_of_another_experiment_exits_2_unless_taken_over(capsys, tmp_path):
+    out = tmp_path / "out"
+    first = write_tiny(tmp_path / "a", name="first", models=("M1",), levels=("D_0",))
+    second = write_tiny(tmp_path / "b", name="second", models=("M1",), levels=("D_0",))
+    assert run(capsys, str(first), "--out", str(out), "--executor", "serial", "--quiet")[0] == 0
+    code, stdout, stderr = run(capsys, str(second), "--out", str(out), "--executor", "serial")
+    assert code == 2 and stdout == ""
+    assert stderr.startswith(f"bearingfw run: error: {out} holds the results of experiment 'first', not 'second'")
+    code, stdout, _ = run(capsys, str(second), "--out", str(out), "--executor", "serial", "--take-over", "--json")
+    assert code == 0 and json.loads(stdout)["skipped"] == ["M1/tremor/D_0"]  # the same computation
+
+
+def test_a_directory_in_use_exits_2_naming_the_holder(capsys, tmp_path):
+    import os
+
+    from bearingfw.experiment import Store
+
+    spec = write_tiny(tmp_path / "spec", models=("M1",), levels=("D_0",))
+    out = tmp_path / "out"
+    with Store(out).claim("tiny"):
+        code, _, stderr = run(capsys, str(spec), "--out", str(out), "--executor", "serial")
+    assert code == 2
+    assert stderr.startswith(f"bearingfw run: error: {out} is in use by another bearingfw run (pid {os.getpid()} ")

@@ -1,5 +1,7 @@
-"""A run killed with SIGKILL loses no finished cell: the rerun computes only the missing ones, and the
-matrices equal those of an uninterrupted run exactly."""
+"""A run killed with SIGKILL loses no finished cell and leaves nothing a rerun could mistake for a result:
+every file in the store is then a whole cell, a cell's histories without its commit (not finished),
+or a temporary of a dead writer (removed by the rerun). The rerun computes exactly the missing cells,
+and the matrices equal those of an uninterrupted run exactly. Worker processes do not outlive the run."""
 
 from __future__ import annotations
 
@@ -18,8 +20,10 @@ from bearingfw.experiment import (
     Store,
     load_experiment,
     plan_cells,
+    recording,
     run_experiment,
 )
+from bearingfw.experiment.store import CELL_FORMAT, LOCK_NAME
 
 pytestmark = pytest.mark.skipif(not hasattr(os, "killpg"), reason="needs POSIX process groups")
 
@@ -28,13 +32,60 @@ MODELS = ("slow", "M1", "M2")
 LEVELS = ("D_0", "D_II")
 
 
-def _finished(store: Store, jobs) -> set[str]:
-    return {j.id for j in jobs if store.is_finished(j.id, j.digest, histories=True)}
+def _finished(store: Store, jobs, every) -> set[str]:
+    return {j.id for j in jobs if store.is_finished(j.id, j.digest, every)}
+
+
+def _start(spec, out, workers: int = 2, **kwargs) -> subprocess.Popen:
+    return subprocess.Popen(
+        [sys.executable, "-m", "bearingfw", "run", str(spec), "--out", str(out), "--executor", "processes",
+         "--workers", str(workers), "--quiet"],
+        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, **kwargs,
+    )
+
+
+def _wait_for_a_cell(process, store, jobs, every, timeout=120.0) -> None:
+    deadline = time.monotonic() + timeout
+    while not _finished(store, jobs, every) and time.monotonic() < deadline and process.poll() is None:
+        time.sleep(0.02)
+
+
+def _classify(out, jobs, every) -> dict[str, set[str]]:
+    """Every file of a killed run's store by what it is; what fits no kind is under "unexplained"."""
+    store = Store(out)
+    by_path = {}
+    for j in jobs:
+        by_path[store.cell_json(j.id)] = ("json", j)
+        by_path[store.cell_npz(j.id)] = ("npz", j)
+    kinds: dict[str, set[str]] = {k: set() for k in ("cell", "histories only", "temporary", "run file", "unexplained")}
+    for path in (p for p in out.rglob("*") if p.is_file()):
+        name = str(path.relative_to(out))
+        if path.name.startswith(".partial-"):
+            kinds["temporary"].add(name)
+        elif path.parent == out and path.name in ("experiment.toml", "manifest.json", LOCK_NAME):
+            kinds["run file"].add(name)
+        elif path in by_path:
+            kind, job = by_path[path]
+            document = store.read_cell(job.id)
+            histories = store.read_histories(job.id)
+            if kind == "json":  # a commit: whole, this digest, ok, and its histories are there
+                whole = (document is not None and document["format"] == CELL_FORMAT and document["status"] == "ok"
+                         and store.is_finished(job.id, job.digest, every))
+                kinds["cell" if whole else "unexplained"].add(name)
+            elif histories is not None and histories[1]["digest"] == job.digest:
+                # histories whose commit did not happen: the cell is not finished and will be computed again
+                kinds["cell" if document is not None else "histories only"].add(name)
+            else:
+                kinds["unexplained"].add(name)
+        else:
+            kinds["unexplained"].add(name)
+    return kinds
 
 
 def test_kill_minus_nine_then_rerun(tmp_path):
     spec = write_tiny(tmp_path / "spec", models=MODELS, levels=LEVELS, delay=5e-4)
     experiment = load_experiment(spec)
+    every = recording(experiment)
     jobs = plan_cells(experiment)
     everything = {j.id for j in jobs}
 
@@ -42,28 +93,58 @@ def test_kill_minus_nine_then_rerun(tmp_path):
     assert set(reference.computed) == everything
 
     out = tmp_path / "killed"
-    process = subprocess.Popen(
-        [sys.executable, "-m", "bearingfw", "run", str(spec), "--out", str(out), "--executor", "processes",
-         "--workers", "2", "--quiet"],
-        start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-    )
     store = Store(out)
-    deadline = time.monotonic() + 120
+    process = _start(spec, out, start_new_session=True)
     try:
-        while not _finished(store, jobs) and time.monotonic() < deadline and process.poll() is None:
-            time.sleep(0.02)
+        _wait_for_a_cell(process, store, jobs, every)
     finally:
         os.killpg(process.pid, signal.SIGKILL)  # the run and its worker processes, with no chance to clean up
         process.wait()
-    kept = _finished(store, jobs)
+    kept = _finished(store, jobs, every)
     assert 0 < len(kept) < len(everything), "the kill should land after the first cell and before the last"
+
+    kinds = _classify(out, jobs, every)
+    assert not kinds["unexplained"], kinds["unexplained"]
+    assert {n.rsplit(".", 1)[0] for n in kinds["cell"] if n.endswith(".json")} == {f"cells/{c}" for c in kept}
     for cell in kept:  # what is there is whole
         assert store.read_cell(cell)["status"] == "ok" and store.read_histories(cell) is not None
+    leftovers = {out / n for n in kinds["temporary"]}  # all the killed processes'
 
     rerun = run_experiment(experiment, out, ProcessExecutor(2))
     assert set(rerun.skipped) == kept
     assert set(rerun.computed) == everything - kept
     assert rerun.exit_code == 0
+    assert not any(p.exists() for p in leftovers)  # dead writers' temporaries are removed
     assert not list(out.rglob(".partial-*"))
+    assert _finished(store, jobs, every) == everything
     assert json.loads((out / "matrices.json").read_text()) == json.loads(
         (tmp_path / "uninterrupted" / "matrices.json").read_text())
+
+
+def test_the_workers_end_when_the_run_is_killed(tmp_path):
+    """Only the run's own process gets SIGKILL: its workers notice and end, so that none goes on writing
+    into the directory (which the next run may hold by then)."""
+    psutil = pytest.importorskip("psutil")
+    spec = write_tiny(tmp_path / "spec", models=("slow",), levels=LEVELS, delay=2e-3)
+    experiment = load_experiment(spec)
+    jobs, every = plan_cells(experiment), recording(experiment)
+    out = tmp_path / "out"
+    process = _start(spec, out)
+    workers = []
+    try:
+        run = psutil.Process(process.pid)
+        deadline = time.monotonic() + 60
+        while not workers and time.monotonic() < deadline and process.poll() is None:
+            workers = [p for p in run.children() if "spawn_main" in " ".join(p.cmdline())]
+            time.sleep(0.05)
+        assert workers, "the run should have started its workers"
+        process.send_signal(signal.SIGKILL)
+        process.wait()
+        _, alive = psutil.wait_procs(workers, timeout=20)
+        assert not alive, f"workers outlived the run: {alive}"
+    finally:
+        for worker in workers:  # only if the test failed: do not leave them behind
+            if worker.is_running():
+                worker.kill()
+    rerun = run_experiment(experiment, out, ProcessExecutor(2))
+    assert rerun.exit_code == 0 and _finished(Store(out), jobs, every) == {j.id for j in jobs}

@@ -65,6 +65,13 @@ def test_matrices_json_is_metric_model_intensity(first):
     assert matrices["friction_ratio.1B"]["M1"]["D_II"] > 0.04 and matrices["friction_ratio.1B"]["M0"]["D_0"] == 0.0
     assert matrices["slip.1B"]["M1"]["D_0"] is None and matrices["bearing_force.2A"]["M2"]["D_0"] is None
     assert matrices["friction_ratio.2A"]["M1"]["D_0"] is None
+    # the rise of the total principal stress never exceeds the tremor's own principal stress (sigma1 is
+    # subadditive), nor the total
+    for model in MODELS:
+        for level in LEVELS:
+            rise = matrices["stress_increase.G4"][model][level]
+            assert 0 < rise <= matrices["stress_dynamic.G4"][model][level] * (1 + 1e-12)
+            assert rise <= matrices["stress.G4"][model][level]
     # the friction law caps the bearing's force at mu N: the ratio reaches mu = 0.04 and not more
     assert matrices["friction_ratio.1B"]["M2"]["D_II"] == pytest.approx(0.04, rel=1e-9)
     ratios = _json(out / "ratios.json")  # reference M1 in the tiny file
@@ -128,6 +135,10 @@ def test_report_has_every_section(first):
                     "## Failed cells"):
         assert heading in text, heading
     assert "SYNTHETIC" in text and "None." in text.split("## Failed cells")[1]
+    definitions = text.split("Definitions:")[1].split("## Figures")[0]
+    assert "- `stress_dynamic`: sigma1 of the stress state of the tremor's own section forces" in definitions
+    assert "- `stress_increase`: sigma1(F(t)) - sigma1(F_dead)" in definitions
+    assert "- `friction_ratio`: abs(F)/N only while the bearing is pressed with more than 10%" in definitions
     assert "![stress_tremor_D_II](figures/stress_tremor_D_II.png)" in text
     assert "| M2/tremor/D_II | ok |" in text
     modal = _json(out / "modal.json")
@@ -198,3 +209,19 @@ def test_without_histories_the_run_completes_without_figures(tmp_path):
     assert summary.failed == () and summary.files["figures"] == []
     assert (out / "matrices.json").is_file() and (out / "report.md").is_file()
     assert json.loads((out / "manifest.json").read_text())["state"] == "finished"
+
+
+def test_several_records_combine_as_the_report_says(tmp_path):
+    """Two records, EC8 rule: fewer than seven, so the matrix holds the larger of the two values."""
+    second = "[records.tremor2]\nseed = 2\ntremor = { duration = 10.0, dt = 0.01, decay = 2.0 }\n"
+    path = write_tiny(tmp_path / "spec", models=("M1",), levels=("D_0",), extra=second)
+    out = tmp_path / "out"
+    summary = run_experiment(load_experiment(path), out, SerialExecutor())
+    assert sorted(summary.computed) == ["M1/tremor/D_0", "M1/tremor2/D_0"]
+    with open(out / "cells.csv", newline="") as handle:
+        values = [float(r["value"]) for r in csv.DictReader(handle) if r["metric"] == "stress_dynamic.G4"]
+    assert len(values) == 2 and values[0] != values[1]
+    assert _json(out / "matrices.json")["stress_dynamic.G4"]["M1"]["D_0"] == max(values)
+    report = (out / "report.md").read_text()
+    assert ('Each entry combines the 2 records (`aggregate = "ec8"`): the most unfavourable (largest) of the records\' '
+            "values (EN 1998-1 4.3.3.4.3: the mean of at least seven records, else the most unfavourable)") in report

@@ -76,6 +76,7 @@ BASE = 'name = "x"\n[models.M2]\npreset = "M2"\n[records.r]\nseed = 0\n'
         (BASE.replace('seed = 0', 'seed = 0\ncomponents = ["h1", "x", "v"]'),
          "records.r.components: field 'components' must be 3 entries"),
         (BASE.replace('"M2"', '"M9"'), "models.M2.preset: field 'preset' must be one of M0, M1, M2, fixed, bouc-wen"),
+        (BASE.replace('[models.M2]\npreset = "M2"', '[models."M2.5"]\npreset = "M9"'), 'models."M2.5".preset: field'),
         (BASE.replace('preset = "M2"', 'preset = "M2"\nparams = { k = 1.0 }'), "models.M2: 'params' go with 'law'"),
         (BASE.replace('preset = "M2"', 'law = "linear-spring"\nks = 1e8'),
          "models.M2: 'ks' and 'friction' go with 'preset'"),
@@ -120,9 +121,16 @@ def test_what_needs_the_plugins_or_the_users_code_is_checked_before_running(tmp_
         return str(caught.value)
 
     message = checked(BASE.replace('preset = "M2"', 'law = "no-such-law"'))
-    assert message.startswith("models.M2: ") and "unknown bearing law 'no-such-law'; known laws: " in message
+    assert message.startswith("models.M2.law: unknown bearing law 'no-such-law'; known laws: ")
+    assert "regularized-coulomb" in message
     message = checked(BASE.replace('preset = "M2"', 'law = "regularized-coulomb"\nparams = { k = 4e8 }'))
-    assert message.startswith("models.M2: ") and "missing parameter(s) 'mu'" in message
+    assert message.startswith("models.M2.params: ") and "missing parameter(s) 'mu'" in message
+    message = checked(BASE.replace('preset = "M2"', 'law = "linear-spring"\nparams = { k = -1.0 }'))
+    assert message.startswith("models.M2.params: linear-spring: parameter 'k' = -1.0 is outside the allowed range k > 0")
+    message = checked(BASE.replace('preset = "M2"', 'law = "linear-spring"\nparams = { k = 1e8, c = 2 }'))
+    assert message.startswith("models.M2.params: linear-spring: unknown parameter(s) 'c'; parameters of linear-spring: k")
+    message = checked(BASE + "[intensities]\nscale = 'no-such-scale'\n")
+    assert message.startswith("intensities.scale: unknown intensity scale 'no-such-scale'; known scales: usb-pga-h10")
     assert "structure.options.element_length: parameter 'element_length' = 99.0 is outside" in checked(
         BASE + "[structure]\noptions = { element_length = 99.0 }\n")
     assert "structure.options.spam: unknown key; allowed in [structure.options]: spans," in checked(

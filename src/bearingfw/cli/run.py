@@ -24,11 +24,13 @@ def add_parser(subparsers) -> None:
             "synthetic mining tremor scaled to D_0 .. D_IV). Each (model, record, intensity) cell is a time-history "
             "analysis, stored as soon as it finishes with a hash of its inputs: a rerun computes only the cells that "
             "are missing, failed, or whose inputs changed, so an interrupted run just continues. Then the comparison "
-            "matrices (matrices.json, CSVs), figures (PNG, SVG) and report.md are written to the output directory.",
+            "matrices (matrices.json, CSVs), figures (PNG, SVG) and report.md are written to the output directory, "
+            "which one run at a time writes into (a lock) and which belongs to one experiment (see --take-over).",
             width=88,
         ),
         epilog="exit status: 0 no cell failed, 1 some cell failed (the others completed; see report.md), "
-        "2 the experiment could not run, 130 interrupted\n\n"
+        "2 the experiment could not run (a bad file or option, or DIR is in use by another run or holds another "
+        "experiment), 130 interrupted\n\n"
         "examples:\n"
         "  bearingfw run                                  the paper's study into bearingfw-results/paper-study\n"
         "  bearingfw run --print-default > my.toml        a starting point for your own experiment\n"
@@ -53,6 +55,9 @@ def add_parser(subparsers) -> None:
                         help="Dask scheduler to use (implies --executor dask; default: a local cluster)")
     parser.add_argument("--reference", metavar="MODEL", help="model the ratios divide by (default: the file's, or M2)")
     parser.add_argument("--force", action="store_true", help="recompute every cell, finished or not")
+    parser.add_argument("--take-over", action="store_true",
+                        help="run even if DIR holds another experiment's results (or other files): cells with the "
+                        "same inputs are reused, the others are left on disk, outside the new results")
     parser.add_argument("--only", action="append", metavar="MODEL",
                         help="run only this model's cells (repeat for several); the matrices show all finished cells")
     parser.add_argument("--levels", action="append", metavar="INTENSITY",
@@ -103,6 +108,7 @@ def run(args) -> int:
         DEFAULT_TOML,
         ExecutorError,
         Progress,
+        StoreError,
         make_executor,
         run_experiment,
     )
@@ -117,12 +123,12 @@ def run(args) -> int:
         progress = Progress(quiet=args.quiet)
         summary = run_experiment(
             experiment, args.out, executor, force=args.force, models=tuple(args.only or ()),
-            intensities=tuple(args.levels or ()), progress=progress,
+            intensities=tuple(args.levels or ()), progress=progress, take_over=args.take_over,
         )
     except KeyboardInterrupt:
         print("\nbearingfw run: interrupted; finished cells are kept, run again to continue", file=sys.stderr)
         return INTERRUPTED
-    except (ParameterError, ExecutorError, OSError) as exc:
+    except (ParameterError, ExecutorError, StoreError, OSError) as exc:
         print(f"bearingfw run: error: {exc}", file=sys.stderr)
         return ERROR
     if not args.quiet:

@@ -22,7 +22,7 @@ Example::
     summary.exit_code, summary.files["matrices.json"]
 """
 
-from bearingfw.experiment.cells import CellJob, cell_id, plan_cells
+from bearingfw.experiment.cells import CellJob, cell_id, plan_cells, recording
 from bearingfw.experiment.default import DEFAULT_TOML, default_experiment
 from bearingfw.experiment.execute import CellOutcome, CellSummary, compute_cell
 from bearingfw.experiment.executors import (
@@ -57,7 +57,7 @@ from bearingfw.experiment.spec import (
     load_experiment,
     parse_experiment,
 )
-from bearingfw.experiment.store import Store
+from bearingfw.experiment.store import Store, StoreError
 
 __all__ = [
     "DEFAULT_TOML",
@@ -84,6 +84,7 @@ __all__ = [
     "SerialExecutor",
     "SpecError",
     "Store",
+    "StoreError",
     "StructureSpec",
     "cell_id",
     "check_experiment",
@@ -97,5 +98,6 @@ __all__ = [
     "paper_findings",
     "parse_experiment",
     "plan_cells",
+    "recording",
     "run_experiment",
 ]

@@ -1,29 +1,45 @@
 """Cells: one (model, record, intensity) analysis each, with a hash of everything it depends on.
 
-A cell's *inputs* are its resolved description as plain data: the structure (builder and its
+A cell's *inputs* are what its physics depends on, as plain data: the structure (builder and its
 options, recorded elements and nodes), the bearing model, the record (the files' contents, not
 their paths; or the synthetic tremor's seed and parameters), the intensity (name, PGA_H10, the
-scale it is checked on), the integration settings, the Rayleigh coefficients, what is kept of
-the histories, and the code versions (:func:`bearingfw.experiment.structure.source_versions`:
-bearingfw, every plugin distribution, and the source files of the experiment's own builder and
-plugin modules). The *digest* is the SHA-256 of their canonical JSON. The results store keeps
-a finished cell with its digest: a rerun skips it while the digest is unchanged and recomputes
-it otherwise. Names (the model's, the record's) are not inputs: they only place the files.
+scale it is checked on), the integration settings, the Rayleigh coefficients, and the code
+(:func:`bearingfw.experiment.structure.code_inputs`: bearingfw's version, the versions of the
+distributions of the laws this cell's model uses, of its record's readers and of the intensity
+scale, and the source files of the experiment's own builder and plugin modules with the modules
+they import from the experiment's folders). The *digest* is the SHA-256 of their canonical JSON.
+The results store keeps a finished cell with its digest: a rerun skips it while the digest is
+unchanged and recomputes it otherwise. Names (the model's, the record's) are not inputs: they
+only place the files.
+
+What is *recorded* (``[output] histories`` and ``every``, :func:`recording`) is not an input: it
+changes the histories file, not the physics, nor the metrics (always from every step). The
+histories file carries its own digest and thinning, so a change of these settings touches only
+the cells whose histories do not fit: histories thinned more coarsely by a whole factor are cut
+from the stored ones (:meth:`~bearingfw.experiment.store.Store.rethin`), finer ones or histories
+that were not kept need the cell computed again, and turning histories off keeps every cell.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
+from collections.abc import Mapping
 
 import attrs
 
-from bearingfw.experiment.records import record_inputs
+from bearingfw.experiment.records import record_inputs, record_readers
 from bearingfw.experiment.spec import Experiment, Intensity
-from bearingfw.experiment.structure import import_paths, registry_for, source_versions
+from bearingfw.experiment.structure import (
+    build_model,
+    code_inputs,
+    import_paths,
+    registry_for,
+)
+from bearingfw.model import Model
 from bearingfw.plugins import Registry
 
-__all__ = ["CellJob", "canonical_json", "cell_id", "plan_cells"]
+__all__ = ["CellJob", "canonical_json", "cell_id", "plan_cells", "recording"]
 
 
 def cell_id(model: str, record: str, intensity: str) -> str:
@@ -56,28 +72,45 @@ def _without_name(data: dict) -> dict:
     return {k: v for k, v in data.items() if k != "name"}
 
 
-def plan_cells(experiment: Experiment, registry: Registry | None = None) -> list[CellJob]:
-    """Every cell of the experiment, model-major, then record, then intensity, with its digest."""
-    registry = registry or registry_for(experiment.plugins, import_paths(experiment))
+def recording(experiment: Experiment) -> int | None:
+    """The thinning of the histories the experiment keeps (``[output] every``), or None if it keeps none."""
+    return experiment.output.every if experiment.output.histories else None
+
+
+def plan_cells(
+    experiment: Experiment, registry: Registry | None = None, models: Mapping[str, Model] | None = None
+) -> list[CellJob]:
+    """Every cell of the experiment, model-major, then record, then intensity, with its digest.
+
+    ``models``: the built model of each bearing model (the laws it uses count in the digest), if
+    the caller has them (:func:`~bearingfw.experiment.runner.check_experiment` does); else built here.
+    """
+    paths = import_paths(experiment)
+    registry = registry or registry_for(experiment.plugins, paths)
+    if models is None:
+        models = {m.name: build_model(experiment.structure, m, registry, paths) for m in experiment.models}
     rayleigh = experiment.damping.rayleigh()
     common = {
         "structure": attrs.asdict(experiment.structure),
         "integration": attrs.asdict(experiment.integration),
         "damping": {"alpha": rayleigh.alpha, "beta": rayleigh.beta},
-        "histories": {"keep": experiment.output.histories, "every": experiment.output.every},
         "plugins": list(experiment.plugins),
-        "code": source_versions(experiment, registry),
     }
-    records = {r.name: record_inputs(experiment, r) for r in experiment.records}
+    records = {r.name: (record_inputs(experiment, r), record_readers(experiment, r, registry))
+               for r in experiment.records}
     scale = experiment.intensities.scale
     jobs = []
     for model in experiment.models:
+        laws = {c.law for c in models[model.name].connectors if c.law is not None}
         for record in experiment.records:
+            data, readers = records[record.name]
+            code = code_inputs(experiment, registry, laws, readers)
             for intensity in experiment.intensity_list:
                 inputs = {
                     **common,
+                    "code": code,
                     "model": _without_name(attrs.asdict(model)),
-                    "record": records[record.name],
+                    "record": data,
                     "intensity": {**attrs.asdict(intensity), "scale": scale},
                 }
                 digest = hashlib.sha256(canonical_json(inputs).encode()).hexdigest()

@@ -95,7 +95,9 @@ table = ["stress.S1", "stress.3B", "stress_dynamic.S1", "stress_dynamic.3B",
          "bearing_force.3B", "slip.3B", "friction_ratio.3B", "deck_acceleration.y"]
 aggregate = "ec8"                       # several records: mean of >= 7, else max ("max", "mean")
 histories = true                        # keep each cell's time histories (NPZ; the figures need them)
-every = 1                               # keep every k-th integration step in them
+every = 1                               # keep every k-th integration step in them (the metrics use all);
+                                        # changing either computes no cell again, except where finer
+                                        # histories than the stored ones are asked for
 report = true                           # write report.md
 
 [figures]

@@ -20,10 +20,10 @@ import traceback
 import attrs
 
 from bearingfw.analysis import TransientError, gravity, solve_transient
-from bearingfw.experiment.cells import CellJob
-from bearingfw.experiment.metrics import recorders, reduce_result
+from bearingfw.experiment.cells import CellJob, recording
+from bearingfw.experiment.metrics import MIN_NORMAL_FRACTION, recorders, reduce_result
 from bearingfw.experiment.records import ground_acceleration, load_record, scaled_record
-from bearingfw.experiment.store import Store
+from bearingfw.experiment.store import Store, thinned
 from bearingfw.experiment.structure import (
     build_model,
     deck_nodes,
@@ -77,16 +77,17 @@ def _laws(model) -> dict:
     }
 
 
-def _thinned(histories: dict, every: int) -> dict:
-    return {k: (v if k.startswith("ground.") else v[::every]) for k, v in histories.items()}
-
-
-def _history_meta(job: CellJob, model, elements, nodes) -> dict:
+def _history_meta(job: CellJob, model, elements, nodes, every: int) -> dict:
     return {
         "cell": job.id,
-        "description": "bearingfw cell histories: time (s); stress.<element>, stress_dynamic.<element> (Pa, "
-        "maximum over the element's recovery points and ends); bearings.<quantity> (t, connectors[, local x y z]); "
+        "digest": job.digest,
+        "every": every,
+        "description": "bearingfw cell histories, every `every`-th integration step from the dead-load state: "
+        "time (s); stress.<element>, stress_dynamic.<element>, stress_increase.<element> (Pa, maximum over the "
+        "element's recovery points and ends); bearings.<quantity> (t, connectors[, local x y z]; friction_ratio "
+        "NaN where the normal force is at most the fraction min_normal_fraction of its dead-load value); "
         "deck.acceleration (t, nodes, global x y z, absolute); ground.acceleration (record samples, global x y z)",
+        "min_normal_fraction": MIN_NORMAL_FRACTION,
         "elements": list(elements),
         "bearings": [c.name for c in model.connectors],
         "sliding": {c.name: list(c.law_directions) for c in model.connectors},
@@ -155,9 +156,10 @@ def compute_cell(job: CellJob) -> CellOutcome:
             reduced, metrics = reduce_result(result, model, elements, nodes)
             document["stats"] = result.stats
             document["settings"] = result.settings
-            if experiment.output.histories:
-                histories = _thinned({**reduced, "ground.acceleration": ag}, experiment.output.every)
-                meta = _history_meta(job, model, elements, nodes)
+            every = recording(experiment)
+            if every is not None:
+                histories = thinned({**reduced, "ground.acceleration": ag}, every)
+                meta = _history_meta(job, model, elements, nodes, every)
         if failure is not None:
             raise failure
         document["metrics"] = metrics

@@ -7,9 +7,11 @@ cell finishes, in completion order.
 - :class:`ProcessExecutor`: a pool of worker processes (default: one per core). A worker computes
   a cell and commits it to the results store *itself*, so a finished cell survives even a
   ``kill -9`` of the process that started the run. Workers are started with ``spawn`` (a clean
-  interpreter: no state inherited from the parent, the same on every platform). If a worker dies
-  (killed, out of memory), the cells it and its siblings were running are recorded as failed
-  and the remaining cells go on in a fresh pool.
+  interpreter: no state inherited from the parent, the same on every platform), and end as soon
+  as that process dies, however it dies: an orphan must not go on writing into a results
+  directory that the next run holds by then. If a worker dies (killed, out of memory), the
+  cells it and its siblings were running are recorded as failed and the remaining cells go on
+  in a fresh pool.
 - :class:`DaskExecutor`: ``dask.distributed``, on the cluster at ``scheduler`` (an address such as
   ``tcp://10.0.0.5:8786``) or on a local cluster of ``workers`` processes. Workers return each
   cell to this process, which commits it: the workers need bearingfw (and the experiment's
@@ -18,6 +20,9 @@ cell finishes, in completion order.
 
 Ctrl-C stops every executor promptly: cells not started are not run, cells in progress are
 abandoned (nothing partial is written), finished cells stay.
+
+:func:`map_in_processes` is the plain parallel map the run's other work uses (the figures), in
+such a pool of local processes.
 """
 
 from __future__ import annotations
@@ -25,7 +30,9 @@ from __future__ import annotations
 import contextlib
 import logging
 import multiprocessing
+import multiprocessing.connection
 import os
+import threading
 from collections.abc import Callable, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -40,7 +47,16 @@ from bearingfw.experiment.execute import (
 )
 from bearingfw.experiment.store import Store
 
-__all__ = ["EXECUTORS", "DaskExecutor", "ExecutorError", "ProcessExecutor", "SerialExecutor", "make_executor"]
+__all__ = [
+    "EXECUTORS",
+    "DaskExecutor",
+    "ExecutorError",
+    "ProcessExecutor",
+    "SerialExecutor",
+    "local_workers",
+    "make_executor",
+    "map_in_processes",
+]
 
 EXECUTORS = ("serial", "processes", "dask")
 
@@ -56,6 +72,23 @@ def _cores() -> int:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # not on Linux
         return os.cpu_count() or 1
+
+
+def _end_with_parent() -> None:
+    """Worker initializer: end this worker as soon as the process that started it dies."""
+    parent = multiprocessing.parent_process()
+    if parent is None:
+        return
+
+    def watch():
+        multiprocessing.connection.wait([parent.sentinel])  # ready when the parent is gone
+        os._exit(1)
+
+    threading.Thread(target=watch, name="bearingfw-watch-parent", daemon=True).start()
+
+
+def _pool(workers: int) -> ProcessPoolExecutor:
+    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=_end_with_parent)
 
 
 class SerialExecutor:
@@ -88,7 +121,7 @@ class ProcessExecutor:
 
     def _run_pool(self, pending: list[CellJob], store: Store, done: Done) -> list[CellJob]:
         """Run cells until all are done (returns []) or the pool breaks (returns those not started)."""
-        pool = ProcessPoolExecutor(min(self.workers, len(pending)), mp_context=multiprocessing.get_context("spawn"))
+        pool = _pool(min(self.workers, len(pending)))
         running = {}
         try:
             while pending or running:
@@ -194,6 +227,33 @@ class DaskExecutor:
             except BaseException:
                 client.cancel(list(futures))
                 raise
+
+
+def local_workers(executor) -> int:
+    """How many local processes the run's other work (figures) may use beside ``executor``: none
+    besides this one for the serial executor, else its workers, at most one per core here."""
+    return 1 if executor.name == "serial" else min(executor.workers, _cores())
+
+
+def map_in_processes(fn: Callable, items: Sequence[tuple], extra: Callable | None = None, workers: int = 1) -> list:
+    """``[fn(*item) for item in items]``, in order, computed in a pool of ``workers`` processes
+    (here, one after the other, for one worker or fewer than two items); ``extra()`` runs here
+    meanwhile. The first exception (or Ctrl-C) ends the workers and is raised."""
+    if workers <= 1 or len(items) < 2:
+        if extra is not None:
+            extra()
+        return [fn(*item) for item in items]
+    pool = _pool(min(workers, len(items)))
+    try:
+        futures = [pool.submit(fn, *item) for item in items]
+        if extra is not None:
+            extra()
+        return [future.result() for future in futures]
+    except BaseException:
+        _terminate(pool)
+        raise
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def make_executor(name: str = "processes", workers: int | None = None, scheduler: str | None = None):

@@ -11,8 +11,9 @@ from __future__ import annotations
 
 import hashlib
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
+import attrs
 import numpy as np
 from matplotlib.colors import TwoSlopeNorm
 from matplotlib.figure import Figure
@@ -23,6 +24,9 @@ from bearingfw.experiment.metrics import display_scale
 from bearingfw.plotting import FORMATS, new_figure, save
 
 __all__ = [
+    "PLOTS",
+    "FigureTask",
+    "draw_figure",
     "plot_bearing_force",
     "plot_friction_ratio",
     "plot_heatmap",
@@ -179,54 +183,114 @@ def _stem(*parts: str) -> str:
     return "_".join(p.replace("/", "-").replace("=", "") for p in parts)
 
 
-class _Drawer:
-    """Saves figures into a folder, skipping those whose inputs did not change since they were drawn.
+@attrs.frozen
+class FigureTask:
+    """One figure to draw: picklable, so that a worker process can draw it from the results store.
 
-    ``index.json`` in the folder maps each figure's stem to a digest of what it shows (the digests
-    of the cells it reads, its settings, the values it plots); a figure whose digest and files are
-    unchanged is not drawn again, so a rerun with nothing new is quick.
+    ``kind``: a key of :data:`PLOTS`; ``cells``: ``(model, cell id)`` whose histories it shows (read
+    from the store by the worker); ``options``: the plotting function's other arguments.
     """
 
-    def __init__(self, store):
+    stem: str
+    kind: str
+    cells: tuple[tuple[str, str], ...] = ()
+    options: dict = attrs.field(factory=dict)
+
+
+def _plot_hysteresis(cells: Mapping[str, Histories], **options) -> Figure:
+    return plot_hysteresis(next(iter(cells.values())), **options)
+
+
+#: How each kind of :class:`FigureTask` is drawn: from the histories of its cells, or (heatmap) its options only.
+PLOTS = {
+    "stress": plot_stress_histories,
+    "bearing-force": plot_bearing_force,
+    "friction-ratio": plot_friction_ratio,
+    "hysteresis": _plot_hysteresis,
+    "heatmap": plot_heatmap,
+}
+
+
+def draw_figure(root: str, task: FigureTask) -> list[str]:
+    """Draw ``task`` into ``<root>/figures`` (PNG and SVG); return the paths written (none if its
+    histories are gone). A module-level function: worker processes run it."""
+    from bearingfw.experiment.store import Store
+
+    store = Store(root)
+    if task.cells:
+        loaded = {m: store.read_histories(cell) for m, cell in task.cells}
+        cells = {m: h for m, h in loaded.items() if h is not None}
+        if not cells:
+            return []
+        figure = PLOTS[task.kind](cells, **task.options)
+    else:
+        figure = PLOTS[task.kind](**task.options)
+    return [str(p) for p in save(figure, store.path("figures"), task.stem)]
+
+
+class _Drawer:
+    """Collects the figures to draw, skipping those whose inputs did not change since they were drawn.
+
+    ``index.json`` in the folder maps each figure's stem to a digest of what it shows (the digests
+    of the cells it reads, the thinning of their histories, its settings, the values it plots); a
+    figure whose digest and files are unchanged is not drawn again, so a rerun with nothing new is
+    quick. The index is written only after every figure is drawn: an interrupted run's figures are
+    drawn again.
+    """
+
+    def __init__(self, store, context):
         self.store = store
+        self.context = context
         self.folder = store.path("figures")
         self.old = store.read_json("figures/index.json") or {}
         self.index: dict[str, str] = {}
-        self.written: list = []
+        self.tasks: list[FigureTask] = []
 
     def needed(self, stem: str, inputs) -> bool:
-        """Register figure ``stem`` showing ``inputs``; True if it must be (re)drawn and :meth:`save`d."""
+        """Register figure ``stem`` showing ``inputs``; True if it must be (re)drawn."""
         from bearingfw import __version__
         from bearingfw.experiment.cells import canonical_json
 
-        digest = hashlib.sha256(canonical_json([__version__, inputs]).encode()).hexdigest()
+        digest = hashlib.sha256(canonical_json([__version__, self.context, inputs]).encode()).hexdigest()
         self.index[stem] = digest
         paths = [self.folder / f"{stem}.{fmt}" for fmt in FORMATS]
-        if self.old.get(stem) == digest and all(p.is_file() for p in paths):
-            self.written += paths
-            return False
-        return True
+        return self.old.get(stem) != digest or not all(p.is_file() for p in paths)
 
-    def save(self, stem: str, figure: Figure) -> None:
-        self.written += save(figure, self.folder, stem)
+    def add(self, task: FigureTask, inputs) -> None:
+        """Figure ``task`` showing ``inputs``: drawn by :meth:`finish` unless it is drawn already."""
+        if self.needed(task.stem, inputs):
+            self.tasks.append(task)
 
-    def finish(self) -> list:
+    def finish(self, workers: int, extra: Callable | None = None) -> list:
+        """Draw the figures to draw on ``workers`` processes, and meanwhile ``extra()`` here (a figure
+        that is not a task); write the index; return the paths of every figure, in the order added."""
+        from bearingfw.experiment.executors import map_in_processes
+
+        items = [(str(self.store.root), task) for task in self.tasks]
+        results = map_in_processes(draw_figure, items, extra, workers)
+        drawn = dict(zip((t.stem for t in self.tasks), results))
+        for stem, paths in drawn.items():
+            if not paths:
+                del self.index[stem]  # nothing to draw it from: no entry, so that it is tried again
         self.store.write_json("figures/index.json", self.index)
-        return self.written
+        return [self.folder / f"{stem}.{fmt}" for stem in self.index for fmt in FORMATS]
 
 
-def write_figures(store, plan: dict, matrices: Matrices, cells: Mapping[tuple[str, str, str], dict]) -> list:
+def write_figures(store, plan: dict, matrices: Matrices, cells: Mapping[tuple[str, str, str], dict],
+                  workers: int = 1) -> list:
     """Draw the experiment's figures into ``DIR/figures``; return the paths of all its figures.
 
     ``plan``: ``records`` (name -> synthetic), ``intensities``, ``models``, ``elements``,
     ``bearing``, ``compare``, ``mu`` (model -> friction coefficient or None), ``hysteresis``,
-    ``table`` (metrics to draw as heatmaps), ``chart`` (``(points, draw)`` of the intensity chart,
-    or None). ``cells`` maps ``(model, record, intensity)`` to the document of each cell finished
-    with status ok for the current inputs; their histories are read from the store, once.
+    ``table`` (metrics to draw as heatmaps), ``every`` (the histories' thinning), ``chart``
+    (``(points, draw)`` of the intensity chart, or None). ``cells`` maps ``(model, record,
+    intensity)`` to the document of each cell whose histories are stored for the current inputs.
+    ``workers``: processes that draw the figures, each from the store
+    (:func:`~bearingfw.experiment.executors.map_in_processes`); the files do not depend on it.
     """
     from bearingfw.experiment.cells import cell_id
 
-    drawer = _Drawer(store)
+    drawer = _Drawer(store, {"every": plan.get("every")})
     colours = _colours(plan["models"])
     bearing = plan["bearing"]
     for record, synthetic in plan["records"].items():
@@ -235,41 +299,40 @@ def write_figures(store, plan: dict, matrices: Matrices, cells: Mapping[tuple[st
             if not present:
                 continue
             digests = {m: cells[(m, record, intensity)]["digest"] for m in present}
-            loaded: dict[str, Histories | None] = {}
 
-            def histories(models, record=record, intensity=intensity, loaded=loaded):
-                for m in models:
-                    if m not in loaded:
-                        loaded[m] = store.read_histories(cell_id(m, record, intensity))
-                return {m: loaded[m] for m in models if loaded[m] is not None}
+            def of(models, record=record, intensity=intensity):
+                return tuple((m, cell_id(m, record, intensity)) for m in models)
 
             where = f"{record}, {intensity}"
-            stem = _stem("stress", record, intensity)
-            if plan["elements"] and drawer.needed(stem, [digests, plan["elements"], synthetic]):
-                drawer.save(stem, plot_stress_histories(histories(present), plan["elements"],
-                                                        f"Maximum principal stress: {where}", synthetic, colours))
+            if plan["elements"]:
+                drawer.add(FigureTask(_stem("stress", record, intensity), "stress", of(present), {
+                    "elements": plan["elements"], "title": f"Maximum principal stress: {where}",
+                    "synthetic": synthetic, "colours": colours}), [digests, plan["elements"], synthetic])
             chosen = [m for m in plan["compare"] if m in present] if bearing else []
-            stem = _stem("bearing-force", bearing or "", record, intensity)
-            if chosen and drawer.needed(stem, [{m: digests[m] for m in chosen}, synthetic]):
-                drawer.save(stem, plot_bearing_force(histories(chosen), bearing, f"Force in bearing {bearing}: {where}",
-                                                     synthetic, colours))
+            if chosen:
+                drawer.add(FigureTask(_stem("bearing-force", bearing, record, intensity), "bearing-force", of(chosen), {
+                    "bearing": bearing, "title": f"Force in bearing {bearing}: {where}", "synthetic": synthetic,
+                    "colours": colours}), [{m: digests[m] for m in chosen}, synthetic])
             rubbing = [m for m in present if plan["mu"].get(m) is not None] if bearing else []
-            stem = _stem("friction-ratio", bearing or "", record, intensity)
-            if rubbing and drawer.needed(stem, [{m: digests[m] for m in rubbing}, plan["mu"], synthetic]):
-                drawer.save(stem, plot_friction_ratio(histories(rubbing), bearing, plan["mu"],
-                                                      f"Friction ratio abs(F)/N in bearing {bearing}: {where}",
-                                                      synthetic, colours))
+            if rubbing:
+                drawer.add(FigureTask(_stem("friction-ratio", bearing, record, intensity), "friction-ratio",
+                                      of(rubbing), {
+                    "bearing": bearing, "mu": plan["mu"], "title": f"Friction ratio abs(F)/N in bearing {bearing}: "
+                    f"{where}", "synthetic": synthetic, "colours": colours}),
+                    [{m: digests[m] for m in rubbing}, plan["mu"], synthetic])
             for m in present if plan["hysteresis"] else ():
-                stem = _stem("hysteresis", m, record, intensity)
-                if drawer.needed(stem, [digests[m], synthetic]):
-                    drawer.save(stem, plot_hysteresis(histories([m])[m], f"Bearing hysteresis, {m}: {where}",
-                                                      synthetic))
+                drawer.add(FigureTask(_stem("hysteresis", m, record, intensity), "hysteresis", of([m]), {
+                    "title": f"Bearing hysteresis, {m}: {where}", "synthetic": synthetic}), [digests[m], synthetic])
     for metric in plan["table"]:
-        stem = _stem("heatmap", metric)
-        if metric in matrices.values and drawer.needed(stem, [matrices.values[metric], matrices.reference]):
-            drawer.save(stem, plot_heatmap(matrices, metric))
+        if metric in matrices.values:
+            drawer.add(FigureTask(_stem("heatmap", metric), "heatmap", (), {"matrices": matrices, "metric": metric}),
+                       [matrices.values[metric], matrices.reference])
+    extra = None
     if plan.get("chart") is not None:
         points, draw = plan["chart"]
         if drawer.needed("intensity-chart", points):
-            drawer.save("intensity-chart", draw())
-    return drawer.finish()
+
+            def extra():  # here (it needs the scale object), while the workers draw the others
+                save(draw(), drawer.folder, "intensity-chart")
+
+    return drawer.finish(workers, extra)

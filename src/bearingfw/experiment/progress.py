@@ -54,18 +54,29 @@ class Progress:
         self.done = self.total = self.failed = 0
         self.workers = 1
         self.start = time.perf_counter()
+        self.open = False  # a live line is on screen without its newline
 
-    def _print(self, text: str, end: str = "\n") -> None:
-        if not self.quiet:
-            print(text, end=end, file=self.stream, flush=True)
+    def _print(self, text: str, rewrite: bool = False) -> None:
+        """Print a line; ``rewrite``: on a terminal, in place of the previous such line, and left open."""
+        if self.quiet:
+            return
+        if rewrite and self.live:
+            print("\r\033[K" + text[:200], end="", file=self.stream, flush=True)
+            self.open = True
+            return
+        print(("\r\033[K" if self.open else "") + text, file=self.stream, flush=True)
+        self.open = False
 
-    def begin(self, models: Sequence[str], skipped: int, executor: str, workers: int) -> None:
-        """``models``: the model of every cell to run; ``skipped``: cells already finished."""
+    def begin(self, models: Sequence[str], skipped: int, executor: str, workers: int, thinned: int = 0) -> None:
+        """``models``: the model of every cell to run; ``skipped``: cells already finished (``thinned``
+        of them with their histories cut to a coarser ``[output] every``)."""
         self.remaining = Counter(models)
         self.total = len(models)
         self.workers = workers
         self.start = time.perf_counter()
         note = f"; {skipped} finished cell(s) kept" if skipped else ""
+        if thinned:
+            note += f" ({thinned} with their histories thinned to the new [output] every)"
         if self.total:
             self._print(f"running {self.total} cell(s) on {executor} ({workers} worker(s)){note}")
         else:
@@ -82,12 +93,11 @@ class Progress:
         line = (f"[{self.done}/{self.total}] {summary.id} {state} ({summary.wall_time:.1f} s) | elapsed "
                 f"{format_duration(elapsed)}" + ("" if eta is None or self.done == self.total else
                                                  f" | ETA {format_duration(eta)}"))
-        if self.live and summary.status == "ok":
-            self._print("\r\033[K" + line[:200], end="")
-        else:
-            self._print(("\r\033[K" if self.live else "") + line)
+        self._print(line, rewrite=summary.status == "ok" and self.done < self.total)
+
+    def note(self, message: str) -> None:
+        """A line about the run's later steps (after the cells)."""
+        self._print(message)
 
     def finish(self, message: str) -> None:
-        if self.live and self.done:
-            self._print("")
         self._print(message)

@@ -22,10 +22,12 @@ from bearingfw.experiment.spec import (
     RecordSpec,
     SpecError,
     from_table,
+    key_path,
 )
 from bearingfw.motion import (
     Record,
     TremorParameters,
+    find_reader,
     get_scale,
     read_record,
     record_degree,
@@ -38,13 +40,13 @@ from bearingfw.motion import (
 from bearingfw.motion.metrics import arias_intensity, dominant_frequency, peak
 from bearingfw.plugins import Registry
 
-__all__ = ["ground_acceleration", "load_record", "record_info", "record_inputs", "scaled_record"]
+__all__ = ["ground_acceleration", "load_record", "record_info", "record_inputs", "record_readers", "scaled_record"]
 
 
 def load_record(experiment: Experiment, spec: RecordSpec, registry: Registry | None = None) -> Record:
     """The record as read or generated, before any scaling."""
     if spec.synthetic:
-        parameters = from_table(TremorParameters, spec.tremor, f"records.{spec.name}.tremor")
+        parameters = from_table(TremorParameters, spec.tremor, key_path("records", spec.name, "tremor"))
         return synthetic_tremor(spec.seed, parameters)
     paths = [experiment.resolve_path(f) for f in spec.files]
     return read_record(paths, format=spec.format, dt=spec.dt, units=spec.units, registry=registry)
@@ -91,9 +93,16 @@ def record_inputs(experiment: Experiment, spec: RecordSpec) -> dict:
             try:
                 digests.append(hashlib.sha256(path.read_bytes()).hexdigest())
             except OSError as exc:
-                raise SpecError(f"records.{spec.name}.files: cannot read {path}: {exc.strerror or exc}") from None
+                raise SpecError(f"{key_path('records', spec.name, 'files')}: cannot read {path}: {exc.strerror or exc}") from None
         data["file_sha256"] = digests
     return data
+
+
+def record_readers(experiment: Experiment, spec: RecordSpec, registry: Registry | None = None) -> tuple[str, ...]:
+    """The names of the readers that read the record's files (none for the synthetic tremor)."""
+    if spec.files is None:
+        return ()
+    return tuple(find_reader(experiment.resolve_path(f), spec.format, registry).name for f in spec.files)
 
 
 def record_info(record: Record, components: tuple[str, str, str], scale=None) -> dict:

@@ -16,7 +16,7 @@ import attrs
 
 from bearingfw.experiment.findings import Finding
 from bearingfw.experiment.matrices import Matrices
-from bearingfw.experiment.metrics import FAMILIES, display_scale, metric_family
+from bearingfw.experiment.metrics import FAMILIES, NOTES, display_scale, metric_family
 from bearingfw.experiment.spec import Experiment
 
 __all__ = ["ReportData", "render_report"]
@@ -69,7 +69,9 @@ def _summary(data: ReportData) -> list[str]:
         "## Summary", "",
         (f"- cells: {s.cells} ({len(data.experiment.models)} models x {len(data.experiment.records)} record(s) x "
          f"{len(data.experiment.intensity_list)} intensities); {len(s.computed)} computed in this run, "
-         f"{len(s.skipped)} kept from earlier runs, {failed} failed, {missing} not computed"),
+         f"{len(s.skipped)} kept from earlier runs"
+         + (f" ({len(s.thinned)} of them with their histories thinned to the new `every`)" if s.thinned else "")
+         + f", {failed} failed, {missing} not computed"),
         (f"- cells computed in {s.run_time:.1f} s of wall time on the {s.executor} executor ({s.workers} worker(s)); "
          f"whole run {s.wall_time:.1f} s"),
     ]
@@ -211,6 +213,15 @@ def _matrices(data: ReportData) -> list[str]:
               "in `matrices.json` and `ratios.json` (`{metric: {model: {intensity: value}}}`, SI units), one CSV per "
               "metric in `matrices/` and `ratios/`, and every cell's values with the time and place of each peak in "
               "`cells.csv`.")]
+    records = len(data.experiment.records)
+    if records > 1:
+        how = data.experiment.output.aggregate
+        rule = {"max": "the largest of the records' values", "mean": "the mean of the records' values",
+                "ec8": ("the mean of the records' values" if records >= 7 else "the most unfavourable (largest) of the "
+                        "records' values") + " (EN 1998-1 4.3.3.4.3: the mean of at least seven records, else the "
+                        "most unfavourable)"}[how]
+        lines += ["", (f"Each entry combines the {records} records (`aggregate = \"{how}\"`): {rule}; an entry is "
+                       "empty when a record's cell is missing or failed.")]
     for metric in data.table:
         if metric not in mx.values:
             continue
@@ -230,10 +241,15 @@ def _matrices(data: ReportData) -> list[str]:
         if heat:
             lines += ["", _figure_link(data, heat[0], f"heatmap {metric}")]
     lines += ["", "### All metrics", ""]
-    for family, (unit, text) in FAMILIES.items():
+    families = [f for f in FAMILIES if any(metric_family(m) == f for m in mx.metrics)]
+    for family in families:
+        unit, text = FAMILIES[family]
         items = [m.partition(".")[2] for m in mx.metrics if metric_family(m) == family]
-        if items:
-            lines.append(f"- `{family}` ({unit}, {text}): {', '.join(items)}")
+        lines.append(f"- `{family}` ({unit}, {text}): {', '.join(items)}")
+    notes = [f for f in families if f in NOTES]
+    if notes:
+        lines += ["", "Definitions:", ""]
+        lines += [f"- `{family}`: {NOTES[family]}." for family in notes]
     return lines
 
 

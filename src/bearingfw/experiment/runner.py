@@ -6,8 +6,10 @@ figures and report from everything the store holds.
 1. check the experiment against the installed plugins and the user's code: every model is
    built (its laws created), the records are read, the recorded elements, nodes and bearings
    exist (a problem is a :class:`~bearingfw.experiment.spec.SpecError` naming the key);
-2. plan the cells and their digests; keep the finished ones (unless ``force``), run the others
-   on the executor (each is committed to the store as it finishes);
+2. plan the cells and their digests; take the results directory (a lock: one run at a time;
+   and it must hold this experiment, :meth:`~bearingfw.experiment.store.Store.claim`); keep the
+   finished cells (unless ``force``), thin the stored histories where only ``[output] every``
+   grew, run the others on the executor (each is committed to the store as it finishes);
 3. read every cell back from the store, build the matrices (``matrices.json``, CSVs), the
    records' measures, the modal results of each model, the figures and ``report.md``.
 
@@ -25,15 +27,15 @@ from pathlib import Path
 import attrs
 
 from bearingfw.analysis import solve_modal
-from bearingfw.experiment.cells import CellJob, plan_cells
+from bearingfw.experiment.cells import CellJob, plan_cells, recording
 from bearingfw.experiment.default import DEFAULT_TABLE
-from bearingfw.experiment.executors import ProcessExecutor
+from bearingfw.experiment.executors import ProcessExecutor, local_workers
 from bearingfw.experiment.findings import Finding, paper_findings
 from bearingfw.experiment.matrices import Matrices, collect_matrices, write_matrices
-from bearingfw.experiment.metrics import FAMILIES, metric_family
+from bearingfw.experiment.metrics import FAMILIES, STRESS_FAMILIES, metric_family
 from bearingfw.experiment.progress import Progress, format_duration
 from bearingfw.experiment.records import load_record, record_info, scaled_record
-from bearingfw.experiment.spec import Experiment, SpecError
+from bearingfw.experiment.spec import Experiment, SpecError, key_path
 from bearingfw.experiment.store import Store
 from bearingfw.experiment.structure import (
     build_model,
@@ -44,8 +46,9 @@ from bearingfw.experiment.structure import (
     response_elements,
 )
 from bearingfw.model import as_system
-from bearingfw.motion import get_scale
+from bearingfw.motion import UnknownScaleError, get_scale
 from bearingfw.parameters import ParameterError
+from bearingfw.plugins import UnknownLawError, create_law
 
 __all__ = ["RunSummary", "check_experiment", "default_output", "run_experiment"]
 
@@ -72,10 +75,8 @@ class Checked:
 
 
 def _table(experiment: Experiment, elements, nodes, connectors) -> tuple[str, ...]:
-    items = {
-        "stress": elements, "stress_dynamic": elements, "deck_acceleration": ("x", "y", "z") if nodes else (),
-        **{f: connectors for f in FAMILIES if f not in ("stress", "stress_dynamic", "deck_acceleration")},
-    }
+    items = {f: elements if f in STRESS_FAMILIES else connectors for f in FAMILIES}
+    items["deck_acceleration"] = ("x", "y", "z") if nodes else ()
     if not experiment.output.table:
         return tuple(m for m in DEFAULT_TABLE if m.partition(".")[2] in items[metric_family(m)])
     for metric in experiment.output.table:
@@ -97,8 +98,19 @@ def check_experiment(experiment: Experiment) -> Checked:
         if not Path(folder).is_dir():
             raise SpecError(f"python_path: {given!r} is not a folder ({folder})")
     registry = registry_for(experiment.plugins, paths)
+    try:
+        get_scale(experiment.intensities.scale, registry)
+    except UnknownScaleError as exc:
+        raise SpecError(f"intensities.scale: {exc}") from None
     models, systems = {}, {}
     for spec in experiment.models:
+        if spec.law is not None:  # the law and its parameters first, so that the message names the key
+            try:
+                create_law(spec.law, registry=registry, **spec.params)
+            except UnknownLawError as exc:
+                raise SpecError(f"{key_path('models', spec.name, 'law')}: {exc}") from None
+            except ParameterError as exc:
+                raise SpecError(f"{key_path('models', spec.name, 'params')}: {exc}") from None
         try:
             models[spec.name] = build_model(experiment.structure, spec, registry, paths)
             systems[spec.name] = as_system(models[spec.name], registry)
@@ -106,7 +118,7 @@ def check_experiment(experiment: Experiment) -> Checked:
             raise
         except (ParameterError, KeyError, TypeError, ValueError) as exc:
             message = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
-            raise SpecError(f"models.{spec.name}: {message}") from None
+            raise SpecError(f"{key_path('models', spec.name)}: {message}") from None
     first = next(iter(models.values()))
     elements = response_elements(experiment.structure, first)
     nodes = deck_nodes(experiment.structure, first)
@@ -125,7 +137,7 @@ def check_experiment(experiment: Experiment) -> Checked:
         except SpecError:
             raise
         except (ValueError, KeyError, OSError, RuntimeError) as exc:  # unreadable, unknown reader, no realisation
-            raise SpecError(f"records.{spec.name}: {exc}") from None
+            raise SpecError(f"{key_path('records', spec.name)}: {exc}") from None
     table = _table(experiment, elements, nodes, connectors)
     return Checked(models, systems, elements, nodes, bearings, records, table)
 
@@ -149,6 +161,8 @@ class RunSummary:
     findings: tuple[Finding, ...] = ()
     matrices: Matrices | None = attrs.field(default=None, repr=False)
     table: tuple[str, ...] = ()
+    #: Cells kept whose stored histories were only thinned to the new ``[output] every`` (in ``skipped`` too).
+    thinned: tuple[str, ...] = ()
 
     @property
     def exit_code(self) -> int:
@@ -254,16 +268,21 @@ def _figure_plan(experiment: Experiment, checked: Checked, chart) -> dict:
 
 
 def _draw(experiment: Experiment, checked: Checked, store: Store, matrices: Matrices, points, registry,
-          done: list[dict]) -> list:
-    """The figures, from the histories of the cells finished for the current inputs (``done``)."""
+          done: list[dict], executor, progress: Progress) -> list:
+    """The figures, from the histories stored for the current inputs of the finished cells ``done``."""
     from bearingfw.experiment.figures import write_figures
     from bearingfw.motion.plot import plot_intensity_chart
 
     synthetic = next((checked.records[r] for r in experiment.record_names if checked.records[r].synthetic), None)
     scale = get_scale(experiment.intensities.scale, registry)
     chart = (points, lambda: plot_intensity_chart(points, scale, record=synthetic))
-    cells = {(d["model"], d["record"], d["intensity"]): d for d in done if d.get("status") == "ok"}
-    return write_figures(store, _figure_plan(experiment, checked, chart), matrices, cells)
+    every = recording(experiment)
+    # A cell kept from an earlier run (--only, --levels) may hold histories of other inputs or thinning.
+    cells = {(d["model"], d["record"], d["intensity"]): d for d in done
+             if d.get("status") == "ok" and store.is_finished(d["id"], d["digest"], every)}
+    workers = local_workers(executor)
+    progress.note(f"drawing the figures ({workers} process(es))")
+    return write_figures(store, {**_figure_plan(experiment, checked, chart), "every": every}, matrices, cells, workers)
 
 
 def run_experiment(
@@ -275,12 +294,16 @@ def run_experiment(
     models: tuple[str, ...] | None = None,
     intensities: tuple[str, ...] | None = None,
     progress: Progress | None = None,
+    take_over: bool = False,
 ) -> RunSummary:
     """Run ``experiment`` into ``out`` (default :func:`default_output`) and write its results.
 
     ``executor``: an object of :mod:`bearingfw.experiment.executors` (default: local processes on
     every core). ``force``: recompute finished cells too. ``models``, ``intensities``: run only
-    these cells (the matrices still show every finished cell).
+    these cells (the matrices still show every finished cell). ``take_over``: run even into a
+    directory that holds another experiment's results, or other files
+    (:mod:`~bearingfw.experiment.store`: what is reused, what is left alone). The directory is
+    locked for the run: :class:`~bearingfw.experiment.store.StoreError` if another run holds it.
     """
     wall = time.perf_counter()
     executor = executor or ProcessExecutor()
@@ -293,47 +316,65 @@ def run_experiment(
         bad = [g for g in (given or ()) if g not in known]
         if bad:
             raise SpecError(f"{field}: {bad[0]!r} is not in the experiment; it has {', '.join(known)}")
-    store.root.mkdir(parents=True, exist_ok=True)
-    store.clean_temporaries()
-    store.write_text("experiment.toml", experiment.source)
-    jobs = plan_cells(experiment, registry)
-    wanted = [j for j in jobs
-              if (not models or j.model in models) and (not intensities or j.intensity.name in intensities)]
-    histories = experiment.output.histories
-    todo = [j for j in wanted if force or not store.is_finished(j.id, j.digest, histories)]
-    todo_ids = {j.id for j in todo}
-    skipped = tuple(j.id for j in wanted if j.id not in todo_ids)
+    jobs = plan_cells(experiment, registry, checked.models)
+    with store.claim(experiment.name, take_over):
+        store.clean_temporaries()
+        store.write_text("experiment.toml", experiment.source)
+        wanted = [j for j in jobs
+                  if (not models or j.model in models) and (not intensities or j.intensity.name in intensities)]
+        every = recording(experiment)
+        todo, thinned = [], []
+        for j in wanted:
+            if force:
+                todo.append(j)
+            elif store.is_finished(j.id, j.digest, every):
+                continue
+            elif every is not None and store.is_finished(j.id, j.digest, None) and store.rethin(j.id, j.digest, every):
+                thinned.append(j.id)  # only the recorded histories changed: cut from the stored ones
+            else:
+                todo.append(j)
+        todo_ids = {j.id for j in todo}
+        skipped = tuple(j.id for j in wanted if j.id not in todo_ids)
 
-    def manifest(state: str) -> None:
-        finished = {j.id for j in jobs if store.is_finished(j.id, j.digest, histories)}
-        store.write_json("manifest.json", {
-            "experiment": experiment.name, "state": state,
-            "updated": datetime.datetime.now().isoformat(timespec="seconds"),
-            "host": platform.node(), "executor": executor.name, "workers": executor.workers,
-            "cells": [{"id": j.id, "digest": j.digest, "finished": j.id in finished,
-                       "files": [f"cells/{j.id}.json", f"cells/{j.id}.npz"]} for j in jobs],
-        })
+        def manifest(state: str) -> None:
+            from bearingfw import __version__
 
-    manifest("running")
-    progress.begin([j.model for j in todo], len(skipped), executor.name, min(executor.workers, max(1, len(todo))))
-    run_start = time.perf_counter()
-    try:
-        executor.run(todo, store, progress.cell)
-    except BaseException:
-        manifest("stopped")
-        raise
-    run_time = time.perf_counter() - run_start
-    try:
-        return _post_process(experiment, checked, store, jobs, todo, skipped, histories, registry, executor,
-                             progress, wall, run_time, manifest)
-    except BaseException:
-        # The cells are safe in the store; say in the manifest that the summary step did not finish.
-        manifest("post-processing failed")
-        raise
+            finished = {j.id for j in jobs if store.is_finished(j.id, j.digest, every)}
+            store.write_json("manifest.json", {
+                "experiment": experiment.name, "state": state, "bearingfw": __version__,
+                "updated": datetime.datetime.now().isoformat(timespec="seconds"),
+                "host": platform.node(), "executor": executor.name, "workers": executor.workers,
+                "recording": {"histories": every is not None, "every": every},
+                "cells": [{"id": j.id, "digest": j.digest, "finished": j.id in finished,
+                           "files": [f"cells/{j.id}.json", f"cells/{j.id}.npz"]} for j in jobs],
+            })
+
+        manifest("running")
+        progress.begin([j.model for j in todo], len(skipped), executor.name,
+                       min(executor.workers, max(1, len(todo))), thinned=len(thinned))
+        run_start = time.perf_counter()
+        try:
+            executor.run(todo, store, progress.cell)
+        except BaseException:
+            manifest("stopped")
+            raise
+        run_time = time.perf_counter() - run_start
+        try:
+            summary = _post_process(experiment, checked, store, jobs, todo, skipped, tuple(thinned), registry,
+                                    executor, progress, wall, run_time)
+        except BaseException:
+            # The cells are safe in the store; say in the manifest that the summary step did not finish.
+            manifest("post-processing failed")
+            raise
+        store.write_json("summary.json", summary.to_dict())
+        manifest("finished")
+    progress.finish(f"{len(todo)} cell(s) run in {format_duration(run_time)}, {len(skipped)} kept, "
+                    f"{len(summary.failed)} failed, {len(summary.missing)} not computed; results in {store.root}")
+    return summary
 
 
-def _post_process(experiment, checked, store, jobs, todo, skipped, histories, registry, executor, progress, wall,
-                  run_time, manifest) -> RunSummary:
+def _post_process(experiment, checked, store, jobs, todo, skipped, thinned, registry, executor, progress, wall,
+                  run_time) -> RunSummary:
     """Matrices, records and modal information, figures, report and summary of a run whose cells are done."""
     documents = _documents(store, jobs)
     done = [d for d in documents if d is not None]
@@ -352,12 +393,13 @@ def _post_process(experiment, checked, store, jobs, todo, skipped, histories, re
     mu = experiment.model("M2").friction_coefficient if "M2" in experiment.model_names else None
     findings = tuple(paper_findings(matrices, mu or 0.04))
     # The figures draw the cells' histories: without stored histories there is nothing to draw.
-    draw = experiment.figures.draw and histories
-    figures = _draw(experiment, checked, store, matrices, points, registry, done) if draw else []
+    draw = experiment.figures.draw and experiment.output.histories
+    figures = _draw(experiment, checked, store, matrices, points, registry, done, executor, progress) if draw else []
     files["figures"] = [str(p) for p in figures]
     summary = RunSummary(
         experiment.name, str(store.root), executor.name, executor.workers, len(jobs), tuple(j.id for j in todo),
         skipped, failed, missing, time.perf_counter() - wall, run_time, files, findings, matrices, checked.table,
+        thinned,
     )
     if experiment.output.report:
         from bearingfw.experiment.report import ReportData, render_report
@@ -367,9 +409,4 @@ def _post_process(experiment, checked, store, jobs, todo, skipped, histories, re
             records, modal, tuple(figures), findings, tuple(paper_findings(matrices, mu or 0.04, family="stress")),
         )
         files["report.md"] = str(store.write_text("report.md", render_report(data)))
-    summary = attrs.evolve(summary, wall_time=time.perf_counter() - wall)
-    store.write_json("summary.json", summary.to_dict())
-    manifest("finished")
-    progress.finish(f"{len(todo)} cell(s) run in {format_duration(run_time)}, {len(skipped)} kept, {len(failed)} "
-                    f"failed, {len(missing)} not computed; results in {store.root}")
-    return summary
+    return attrs.evolve(summary, wall_time=time.perf_counter() - wall)

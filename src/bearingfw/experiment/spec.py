@@ -48,6 +48,7 @@ __all__ = [
     "SpecError",
     "StructureSpec",
     "from_table",
+    "key_path",
     "load_experiment",
     "parse_experiment",
 ]
@@ -67,6 +68,15 @@ _MODULE_FUNCTION = re.compile(r"^[A-Za-z_][\w.]*:[A-Za-z_]\w*$")
 
 class SpecError(ParameterError):
     """The experiment file is malformed; the message starts with the key's path."""
+
+
+_BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
+
+
+def key_path(*parts: str) -> str:
+    """A key's path as TOML writes it: ``models."M2.5".law`` (a part that is not a bare key is quoted)."""
+    return ".".join(p if _BARE_KEY.match(p) else '"' + p.replace("\\", "\\\\").replace('"', '\\"') + '"'
+                    for p in parts)
 
 
 # ---- field helpers ------------------------------------------------------------------------------
@@ -633,7 +643,7 @@ def _experiment(data: dict, base_dir: Path, text: str) -> Experiment:
         tables = data.get(key, {})
         if not isinstance(tables, Mapping):
             raise SpecError(f"{key}: must be tables [{key}.<name>], got {type(tables).__name__} {tables!r}")
-        kwargs[key] = tuple(from_table(cls, table, f"{key}.{name}", name=name) for name, table in tables.items())
+        kwargs[key] = tuple(from_table(cls, table, key_path(key, name), name=name) for name, table in tables.items())
     scalars = {key: data[key] for key in _SCALARS if key in data}
     if "name" not in scalars:
         raise SpecError("name: missing; every experiment has a name (it names the output folder)")

@@ -17,13 +17,14 @@ a registry of their own (:func:`registry_for`), which the cell's analyses use.
 
 from __future__ import annotations
 
+import ast
 import contextlib
 import functools
 import hashlib
 import importlib
 import importlib.util
 import sys
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from importlib import metadata
 from pathlib import Path
 
@@ -46,14 +47,14 @@ from bearingfw.plugins.registry import ENTRY_POINT_GROUP
 __all__ = [
     "bridge_parameters",
     "build_model",
+    "code_inputs",
     "deck_nodes",
     "governed_bearings",
     "import_paths",
-    "module_digest",
+    "local_sources",
     "on_path",
     "registry_for",
     "response_elements",
-    "source_versions",
 ]
 
 
@@ -213,32 +214,125 @@ def deck_nodes(structure: StructureSpec, model: Model) -> tuple[str, ...]:
     return tuple(names)
 
 
-def module_digest(module_name: str, paths: tuple[str, ...]) -> str | None:
-    """SHA-256 of a module's source file (None if it has none), found with ``paths`` on sys.path."""
-    with on_path(paths):
+def _module_file(name: str, roots: Sequence[str]) -> Path | None:
+    """The source file of module ``name`` under one of ``roots`` (searched in order, a package before a
+    module of the same name, as Python's import does), or None."""
+    parts = name.split(".")
+    for root in roots:
+        base = Path(root).joinpath(*parts)
+        for candidate in (base / "__init__.py", base.with_name(f"{parts[-1]}.py")):
+            if candidate.is_file():
+                return candidate
+    return None
+
+
+def _with_parents(names: Iterable[str]) -> set[str]:
+    """The names and their parent packages (importing ``a.b.c`` runs ``a`` and ``a.b`` first)."""
+    out = set()
+    for name in names:
+        parts = name.split(".")
+        out.update(".".join(parts[:k]) for k in range(1, len(parts) + 1))
+    return out
+
+
+def _imported(tree: ast.AST, name: str, is_package: bool) -> set[str]:
+    """Every module an ``import`` statement of the module ``name`` may load, anywhere in its source
+    (functions included); ``from m import x`` counts ``m`` and ``m.x`` (x may be a submodule)."""
+    package = name if is_package else name.rpartition(".")[0]
+    found: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            found.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            module = node.module or ""
+            if node.level:
+                parts = package.split(".") if package else []
+                if node.level - 1 > len(parts):
+                    continue  # beyond the top-level package: Python refuses it too
+                module = ".".join(p for p in (*parts[:len(parts) - node.level + 1], module) if p)
+            if module:
+                found.add(module)
+            found.update(".".join(p for p in (module, alias.name) if p) for alias in node.names if alias.name != "*")
+    return _with_parents(found)
+
+
+def local_sources(module: str, roots: Sequence[str]) -> dict[str, str] | None:
+    """SHA-256 of the source of ``module`` and of every module it imports, directly or through others,
+    that lives under ``roots`` (the experiment's own folders), by module name; None if ``module`` is
+    not under ``roots``.
+
+    The imports are read from the source (``ast``), not from a run, so the result does not depend on
+    what the process imported before; imports by computed name (``importlib.import_module(x)``) are
+    not seen. Modules from anywhere else (bearingfw, numpy, an installed package) are identified by
+    their distribution's version instead (:func:`code_inputs`).
+    """
+    digests: dict[str, str] = {}
+    queue = sorted(_with_parents([module]))
+    while queue:
+        name = queue.pop()
+        if name in digests:
+            continue
+        path = _module_file(name, roots)
+        if path is None:
+            continue
+        data = path.read_bytes()
+        digests[name] = hashlib.sha256(data).hexdigest()
         try:
-            found = importlib.util.find_spec(module_name)
-        except (ImportError, ValueError):
-            return None
-    origin = getattr(found, "origin", None)
-    if not origin or not Path(origin).is_file():
-        return None
-    return hashlib.sha256(Path(origin).read_bytes()).hexdigest()
+            tree = ast.parse(data, filename=str(path))
+        except (SyntaxError, ValueError):  # importing it fails anyway; its bytes are hashed
+            continue
+        queue.extend(sorted(_imported(tree, name, path.name == "__init__.py") - digests.keys()))
+    return dict(sorted(digests.items())) if module in digests else None
 
 
-def source_versions(experiment: Experiment, registry: Registry) -> dict:
-    """What code a cell's result depends on beyond its inputs: bearingfw's and the plugin
-    distributions' versions, and the source of the experiment's own modules (builder, plugins)."""
+@functools.lru_cache(maxsize=32)  # packages_distributions() reads every installed distribution's file list
+def _installed_version(module: str) -> tuple[str, str] | None:
+    """(distribution, version) of the installed distribution providing the top-level package of ``module``."""
+    top = module.partition(".")[0]
+    for distribution in metadata.packages_distributions().get(top, ()):
+        with contextlib.suppress(metadata.PackageNotFoundError):
+            return distribution, metadata.version(distribution)
+    return None
+
+
+def _home(module: str) -> tuple[str, ...]:
+    """The sys.path folder the top-level package of ``module`` is imported from (none if not found)."""
+    top = module.partition(".")[0]
+    try:
+        found = importlib.util.find_spec(top)
+    except (ImportError, ValueError):
+        return ()
+    if found is None or not found.origin or not Path(found.origin).is_file():
+        return ()
+    origin = Path(found.origin)
+    return (str(origin.parent.parent if found.submodule_search_locations else origin.parent),)
+
+
+def code_inputs(experiment: Experiment, registry: Registry, laws: Iterable[str], readers: Iterable[str] = ()) -> dict:
+    """What code a cell's result depends on beyond its data: bearingfw's version; the version of the
+    distribution of each law ``laws``, record reader ``readers`` and the intensity scale it uses; and
+    the source files (:func:`local_sources`) of the experiment's own modules: the structure's builder
+    and the ``plugins`` modules that contribute one of those. Such a module that belongs to an
+    installed distribution (and is not in the experiment's folders) counts by that version."""
     from bearingfw import __version__
+    from bearingfw.motion.intensity import DEFAULT_SCALE_NAME
 
     paths = import_paths(experiment)
-    distributions = {}
-    for table in (registry.laws, registry.record_readers, registry.intensity_scales):
-        for entry in table.values():
-            if entry.origin.distribution:
-                distributions[entry.origin.distribution] = entry.origin.version
-    modules = {m: module_digest(m, paths) for m in experiment.plugins}
+    origins = [registry.laws[name].origin for name in sorted(set(laws))]
+    origins += [registry.record_readers[name].origin for name in sorted(set(readers))]
+    scale = registry.intensity_scales.get(experiment.intensities.scale or DEFAULT_SCALE_NAME)
+    origins += [scale.origin] if scale is not None else []
+    distributions = {o.distribution: o.version for o in origins if o.distribution}
+    sources: dict = {}
+    own = {o.plugin.partition(":")[2] for o in origins if o.plugin.startswith("experiment:")}
     if not experiment.structure.is_reference:
-        name = experiment.structure.builder.partition(":")[0]
-        modules[name] = module_digest(name, paths)
-    return {"bearingfw": __version__, "distributions": dict(sorted(distributions.items())), "modules": modules}
+        own.add(experiment.structure.builder.partition(":")[0])
+    for name in sorted(own):
+        if _module_file(name, paths) is not None:
+            sources[name] = local_sources(name, paths)
+        elif (installed := _installed_version(name)) is not None:
+            distributions[installed[0]] = installed[1]
+        else:  # elsewhere on sys.path: its own sources, from the folder it is imported from
+            sources[name] = local_sources(name, _home(name))
+    return {"bearingfw": __version__, "distributions": dict(sorted(distributions.items())),
+            "sources": dict(sorted(sources.items()))}

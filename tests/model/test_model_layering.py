@@ -9,7 +9,9 @@ import bearingfw
 from bearingfw.plugins import get_registry
 
 KERNEL = [Path(bearingfw.__file__).parent / sub for sub in ("model", "analysis")]
-FORBIDDEN_IMPORTS = ("bearingfw.laws", "bearingfw.cli", "bearingfw.experiment", "bearingfw.motion", "bearingfw.tuning")
+FORBIDDEN_IMPORTS = (
+    "bearingfw.laws", "bearingfw.cli", "bearingfw.experiment", "bearingfw.motion", "bearingfw.oma", "bearingfw.tuning",
+)
 
 
 def kernel_files():

@@ -14,30 +14,74 @@ bridge modules that import tuning, and nothing in tuning imports bridges.
 - :func:`tuned_bridge` (step 2): the M2 model, regularized Coulomb with the stick stiffness
   K_s and ``mu = 0.04``, for time histories.
 - :func:`measured_damping`: the measured decrements as damping ratios and Rayleigh coefficients.
+- :func:`paper_sensors`: the paper's measurement points P1..P7 as deck channels (``"GA12.uz"``),
+  for simulated ambient tests and for pairing modes identified by ``bearingfw oma`` by MAC.
+- :func:`calibrate_ks_to_identified` (step 1 with identified modes, ``bearingfw tune
+  --measured``): modes identified by ``bearingfw oma`` paired by MAC at their channels; those
+  that pair with no computed mode well enough are dropped and named; a scan of K_s starts the
+  least squares; each mode's sensitivity to K_s and the damping follow.
+
+Identified modes, step by step. A few deck sensors see several modes alike (on half the
+bridge, as the paper placed them, MAC 0.85-0.9 between neighbouring vertical modes), so pairing
+by MAC can switch between trial values of K_s and the sum of squares has local minima: from
+eq. 11's estimate, which is rough (its SDOF frame ignores the deck), the fit can stop in one.
+So the fit starts from the best of eq. 11 and a scan of K_s over its bounds
+(:attr:`IdentifiedTuning.scan_points` log-spaced values, one modal analysis each). Before
+that, each identified mode's best MAC with its partner over the scan (and the untuned model)
+decides whether it takes part: below :attr:`IdentifiedTuning.min_mac` it is a noise mode or
+one the model lacks, and its frequency error alone would drive K_s (a spurious mode at MAC 0.13
+pulls the fit to the bound of 10 MN/m). After the fit, pairs below the least MAC at the fitted
+K_s are warned about. The sensitivity ``d ln f / d ln K_s`` of each mode at the fitted K_s says
+how much it tells about K_s: a frequency error ``e`` moves K_s by about ``e / s``.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import math
+from collections.abc import Mapping, Sequence
+from typing import Any
 
-from bearingfw.analysis import ModalResult
+import attrs
+import numpy as np
+
+from bearingfw.analysis import ModalResult, solve_modal
 from bearingfw.analysis.damping import damping_ratio_from_log_decrement, rayleigh_from_ratios
+from bearingfw.bridges.layout import SIDES
 from bearingfw.bridges.paper import DAMPING_RATIOS, FRICTION, LOG_DECREMENTS, MODES, TABLE2_OMA
 from bearingfw.bridges.parameters import BridgeParameters
 from bearingfw.bridges.presets import DEFAULT_KS, reference_bridge
-from bearingfw.bridges.reference import DECK_COMPONENTS, DECK_SHARE, deck_nodes
+from bearingfw.bridges.reference import DECK_COMPONENTS, DECK_SHARE, deck_nodes, grid
 from bearingfw.model import Model
-from bearingfw.tuning import CalibrationReport, Observation, Pairing, calibrate, evaluate, ks_eq11
+from bearingfw.parameters import ParameterError, integer_parameter, parameter
+from bearingfw.tuning import (
+    MIN_MAC,
+    CalibrationReport,
+    Measurement,
+    Observation,
+    Pairing,
+    PairingError,
+    calibrate,
+    evaluate,
+    identified_measurements,
+    ks_eq11,
+    pair_modes,
+)
 
 __all__ = [
     "KS_BOUNDS",
     "N_MODES",
+    "IdentifiedFit",
+    "IdentifiedTuning",
     "calibrate_ks",
+    "calibrate_ks_to_identified",
+    "channel_warnings",
     "deck_observation",
     "ks_estimate",
     "measured_damping",
     "modes",
     "paper_measurements",
+    "paper_sensors",
+    "screen_by_mac",
     "tuned_bridge",
 ]
 
@@ -47,9 +91,45 @@ KS_BOUNDS = (1e7, 1e11)
 N_MODES = 40
 
 
-def deck_observation(params: BridgeParameters = BridgeParameters()) -> Observation:
-    """The paper's sensors: the deck's vertical and transverse motion (``DECK_COMPONENTS``, ``DECK_SHARE``)."""
-    return Observation(deck_nodes(params), components=DECK_COMPONENTS, min_share=DECK_SHARE)
+def deck_observation(params: BridgeParameters = BridgeParameters(), sensors=None) -> Observation:
+    """The paper's sensors: the deck's vertical and transverse motion (``DECK_COMPONENTS``, ``DECK_SHARE``).
+
+    ``sensors``: channel names at which measured shapes are given (e.g. :func:`paper_sensors`).
+    """
+    return Observation(deck_nodes(params), components=DECK_COMPONENTS, min_share=DECK_SHARE, sensors=sensors)
+
+
+#: Section 2.3: the measurement points, each on both outer edges of the deck (a, b), as
+#: ``("span", k, fraction of span k)`` or ``("axis", k, metres past axis k)``: P1 in the middle
+#: of the first span, P2 over the second support, P3 and P4 at 1/3 and 2/3 of the second span,
+#: P5 over the third support, P6 18.22 m from the third support into the central span, P7 at the
+#: middle of the central span (figure 8 is missing; the text gives these positions).
+PAPER_POINTS = {
+    "P1": ("span", 1, 0.5), "P2": ("axis", 2, 0.0), "P3": ("span", 2, 1 / 3), "P4": ("span", 2, 2 / 3),
+    "P5": ("axis", 3, 0.0), "P6": ("axis", 3, 18.22), "P7": ("span", 3, 0.5),
+}
+
+
+def paper_sensors(
+    params: BridgeParameters = BridgeParameters(), components=DECK_COMPONENTS
+) -> dict[str, tuple[str, ...]]:
+    """The channels of P1..P7: ``{point: ("GA<k>.uy", "GA<k>.uz", "GB<k>.uy", "GB<k>.uz")}``.
+
+    Each point is the girder station nearest its position; the sensors' a and b sides are the
+    girders A and B (the model's deck edges), with ``components`` (default: the vertical and
+    transverse channels the paper analysed, figure 11).
+    """
+    stations = grid(params)
+    x = params.axis_positions
+
+    def station(kind, number, where):
+        at = x[number - 1] + where if kind == "axis" else x[number - 1] + where * (x[number] - x[number - 1])
+        return int(round(at / stations.step))
+
+    return {
+        point: tuple(f"G{side}{station(*spec)}.{c}" for side in SIDES for c in components)
+        for point, spec in PAPER_POINTS.items()
+    }
 
 
 def paper_measurements(column: Mapping[str, float] = TABLE2_OMA) -> list[tuple[str, float]]:
@@ -80,11 +160,12 @@ def calibrate_ks(
     initial: float | None = None,
     by: str = "label",
     n_modes: int = N_MODES,
+    sensors=None,
 ) -> CalibrationReport:
     """Step 1: fit K_s of the M1 model to ``measured`` (default: Table 2's OMA column).
 
     Starts from ``initial`` (default: the eq. 11 estimate) within :data:`KS_BOUNDS`; the
-    variable is named ``"ks"``.
+    variable is named ``"ks"``. ``sensors``: the channels of measured shapes (``by="mac"``).
     """
     measured = paper_measurements() if measured is None else measured
     start = ks_estimate(params)[0] if initial is None else float(initial)
@@ -93,7 +174,7 @@ def calibrate_ks(
         measured,
         {"ks": (start, *KS_BOUNDS)},
         by=by,
-        observation=deck_observation(params),
+        observation=deck_observation(params, sensors),
         n_modes=n_modes,
     )
 
@@ -123,3 +204,208 @@ def measured_damping(decrements=LOG_DECREMENTS, stated=DAMPING_RATIOS) -> dict:
         "rayleigh": rayleigh(ratios),
         "rayleigh_paper_ratios": rayleigh(list(stated)),
     }
+
+
+# -- step 1 with identified modes ------------------------------------------------------------------
+
+
+@attrs.frozen
+class IdentifiedTuning:
+    """Options of :func:`calibrate_ks_to_identified` (module docstring)."""
+
+    min_mac: float = parameter(
+        low=0.0, high=1.0, default=MIN_MAC, doc="least MAC of an identified mode with its computed partner"
+    )
+    scan_points: int = integer_parameter(
+        low=2, high=200, default=17, doc="log-spaced values of K_s over its bounds whose fit starts the least squares"
+    )
+    sensitivity_step: float = parameter(
+        low=0.0, low_open=True, high=0.5, default=0.05, doc="relative step of d ln f / d ln K_s (central difference)"
+    )
+
+
+@attrs.frozen(eq=False)
+class IdentifiedFit:
+    """What :func:`calibrate_ks_to_identified` found; :meth:`to_dict` is ``bearingfw tune --measured --json``."""
+
+    options: IdentifiedTuning
+    sensors: tuple[str, ...]
+    used: tuple[Measurement, ...]
+    dropped: tuple[dict, ...]
+    untuned: Pairing
+    eq11: dict | None
+    ks_eq11: float | None
+    scan: tuple[tuple[float, float], ...]
+    ks_start: float
+    report: CalibrationReport
+    sensitivity: np.ndarray
+    damping: dict
+    warnings: tuple[str, ...]
+    metadata: Mapping[str, Any] = attrs.field(factory=dict)
+
+    @property
+    def ks(self) -> float:
+        return self.report.values["ks"]
+
+    def to_dict(self) -> dict[str, Any]:
+        names = [m.name for m in self.used]
+
+        def by_name(values):
+            return {n: float(v) for n, v in zip(names, values, strict=True)}
+
+        after = self.report.after
+        return {
+            "source": self.metadata.get("source"),
+            "synthetic": bool(self.metadata.get("synthetic", False)),
+            "sensors": list(self.sensors),
+            "min_mac": self.options.min_mac,
+            "dropped": [dict(d) for d in self.dropped],
+            "warnings": list(self.warnings),
+            "ks_eq11": self.ks_eq11,
+            "ks_start": self.ks_start,
+            "ks_fit": self.ks,
+            "eq11": self.eq11,
+            "scan": [{"ks": v, "cost": c if math.isfinite(c) else None} for v, c in self.scan],  # None: unpaired
+            "measured": by_name(after.measured),
+            "before": by_name(self.untuned.frequencies),
+            "after": by_name(after.frequencies),
+            "error_before": by_name(self.untuned.errors),
+            "error_after": by_name(self.report.errors_after),
+            "label_after": dict(zip(names, after.labels, strict=True)),
+            "mac_after": by_name(after.mac),
+            "sensitivity": by_name(self.sensitivity),
+            "calibration": self.report.to_dict(),
+            "damping": self.damping,
+        }
+
+
+def _pairings(modal: ModalResult, measured, observation: Observation) -> Pairing | None:
+    try:
+        return pair_modes(modal, measured, by="mac", observation=observation)
+    except PairingError:
+        return None
+
+
+def screen_by_mac(
+    measured: tuple[Measurement, ...], pairings: Sequence[Pairing | None], min_mac: float
+) -> tuple[tuple[Measurement, ...], tuple[dict, ...]]:
+    """Keep the measurements whose best pair MAC over ``pairings`` reaches ``min_mac``; the others, named."""
+    best = np.zeros(len(measured))
+    for pairing in pairings:
+        if pairing is not None:
+            best = np.maximum(best, pairing.mac)
+    kept = tuple(m for m, b in zip(measured, best, strict=True) if b >= min_mac)
+    dropped = tuple(
+        {"name": m.name, "frequency": m.frequency, "best_mac": float(b)}
+        for m, b in zip(measured, best, strict=True)
+        if b < min_mac
+    )
+    return kept, dropped
+
+
+def channel_warnings(sensors: Sequence[str]) -> list[str]:
+    """What the channels of a modes file leave in doubt: with one, every MAC is 1."""
+    if len(sensors) == 1:
+        return [
+            f"the modes file has a single channel ({sensors[0]}): every MAC is 1, so modes are paired by the "
+            "assignment alone and the screening by MAC cannot reject anything"
+        ]
+    return []
+
+
+def _cost(pairing: Pairing | None) -> float:
+    return math.inf if pairing is None else float(np.sum(pairing.errors**2))
+
+
+def _identified_damping(identified, used: Sequence[Measurement], report: CalibrationReport) -> dict:
+    """The identified damping ratios, and Rayleigh through vertical 1 and 2 when both are paired (section 3.2)."""
+    ratios = {m.name: m.damping for m in identified.modes}
+    out: dict[str, Any] = {"identified": {m.name: ratios[m.name] for m in used}}
+    paired = dict(zip(report.after.labels, used, strict=True))
+    if "vertical 1" in paired and "vertical 2" in paired:
+        (f1, z1), (f2, z2) = ((paired[k].frequency, ratios[paired[k].name]) for k in ("vertical 1", "vertical 2"))
+        try:
+            alpha, beta = rayleigh_from_ratios(f1, z1, f2, z2)
+            out["rayleigh"] = {"alpha": alpha, "beta": beta, "through": ["vertical 1", "vertical 2"]}
+        except ParameterError as exc:
+            out["rayleigh"] = {"error": str(exc)}
+    return out
+
+
+def calibrate_ks_to_identified(
+    identified,
+    options: IdentifiedTuning = IdentifiedTuning(),
+    select=None,
+    params: BridgeParameters = BridgeParameters(),
+) -> IdentifiedFit:
+    """Step 1 with modes identified by ``bearingfw oma`` (:class:`~bearingfw.oma.IdentifiedModes`), module docstring.
+
+    ``select``: mode names or 1-based numbers to use (default all). Raises
+    :class:`~bearingfw.parameters.ParameterError` when no mode pairs with a computed one at
+    ``options.min_mac`` or better, or the channels are not deck DOFs of the model.
+    """
+    measured, sensors = identified_measurements(identified, select)
+    warnings = channel_warnings(sensors)
+    observation = deck_observation(params, sensors)
+
+    def modal_at(ks: float | None) -> ModalResult:
+        model = reference_bridge("M0", params=params) if ks is None else reference_bridge("M1", ks=ks, params=params)
+        return solve_modal(model, N_MODES)
+
+    untuned_modal = modal_at(None)
+    grid_ks = [float(v) for v in np.logspace(*np.log10(KS_BOUNDS), options.scan_points)]
+    scanned = {ks: modal_at(ks) for ks in grid_ks}
+    first = [_pairings(untuned_modal, measured, observation)] + [
+        _pairings(m, measured, observation) for m in scanned.values()
+    ]
+    used, dropped = screen_by_mac(measured, first, options.min_mac)
+    if not used:
+        listed = ", ".join(f"{d['name']} ({d['frequency']:.3f} Hz, best MAC {d['best_mac']:.2f})" for d in dropped)
+        raise ParameterError(
+            f"calibrate_ks_to_identified: no identified mode pairs with a computed one at MAC >= min_mac = "
+            f"{options.min_mac:g}: {listed}"
+        )
+    if dropped:
+        listed = ", ".join(f"{d['name']} ({d['frequency']:.3f} Hz, best MAC {d['best_mac']:.2f})" for d in dropped)
+        warnings.append(f"left out, paired at MAC below {options.min_mac:g} with every computed mode: {listed}")
+
+    untuned = pair_modes(untuned_modal, used, by="mac", observation=observation)
+    lateral = [m for m, label in zip(used, untuned.labels, strict=True) if label == "lateral 1"]
+    if lateral:
+        ks0, f_a = ks_estimate(params, lateral[0].frequency)
+        eq11 = {"k_c": params.pillar_stiffness, "f_a": f_a, "f_b": lateral[0].frequency, "mode": lateral[0].name}
+    else:  # no identified mode is the untuned model's first lateral one: the paper's value joins the scan
+        ks0, eq11 = DEFAULT_KS, None
+    scanned.setdefault(ks0, modal_at(ks0))
+    scan = tuple((ks, _cost(_pairings(modal, used, observation))) for ks, modal in scanned.items())
+    start = min(scan, key=lambda item: item[1])[0]
+    report = calibrate_ks(params, measured=used, initial=start, by="mac", sensors=sensors)
+    ks = report.values["ks"]
+    weak = report.after.weak(options.min_mac)
+    if weak:
+        macs = dict(zip((m.name for m in used), report.after.mac, strict=True))
+        listed = ", ".join(f"{n} (MAC {macs[n]:.2f})" for n in weak)
+        warnings.append(f"at the fitted K_s these modes pair below MAC {options.min_mac:g}: {listed}")
+
+    step = options.sensitivity_step
+    logs = []
+    for factor in (1 - step, 1 + step):
+        pairing = pair_modes(modal_at(ks * factor), used, by="mac", observation=observation)
+        logs.append(np.log(pairing.frequencies))
+    sensitivity = (logs[1] - logs[0]) / math.log((1 + step) / (1 - step))
+    return IdentifiedFit(
+        options=options,
+        sensors=tuple(sensors),
+        used=used,
+        dropped=dropped,
+        untuned=untuned,
+        eq11=eq11,
+        ks_eq11=ks0 if eq11 else None,
+        scan=scan,
+        ks_start=start,
+        report=report,
+        sensitivity=sensitivity,
+        damping=_identified_damping(identified, used, report),
+        warnings=tuple(warnings),
+        metadata={k: identified.metadata.get(k) for k in ("source", "synthetic")},
+    )

@@ -10,9 +10,9 @@ import argparse
 import sys
 
 from bearingfw import __version__
-from bearingfw.cli import modal, plugins, record, run, tune
+from bearingfw.cli import modal, oma, plugins, record, run, tune
 
-COMMANDS = [plugins, record, modal, tune, run]
+COMMANDS = [plugins, record, oma, modal, tune, run]
 
 
 def build_parser() -> argparse.ArgumentParser:

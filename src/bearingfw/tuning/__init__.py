@@ -12,6 +12,7 @@ re-exported here because tuning is where measured damping enters a model.
 from bearingfw.analysis.damping import damping_ratio_from_log_decrement, rayleigh_from_ratios
 from bearingfw.tuning.calibration import CalibrationReport, Variable, calibrate, evaluate
 from bearingfw.tuning.pairing import (
+    MIN_MAC,
     PAIR_BY,
     Measurement,
     Observation,
@@ -19,6 +20,7 @@ from bearingfw.tuning.pairing import (
     Pairing,
     PairingError,
     as_measurements,
+    identified_measurements,
     observed_modes,
     pair_modes,
     paired_shapes,
@@ -26,6 +28,7 @@ from bearingfw.tuning.pairing import (
 from bearingfw.tuning.sdof import frequency_ratio, ks_eq11
 
 __all__ = [
+    "MIN_MAC",
     "PAIR_BY",
     "CalibrationReport",
     "Measurement",
@@ -39,6 +42,7 @@ __all__ = [
     "damping_ratio_from_log_decrement",
     "evaluate",
     "frequency_ratio",
+    "identified_measurements",
     "ks_eq11",
     "observed_modes",
     "pair_modes",

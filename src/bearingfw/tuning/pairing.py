@@ -15,7 +15,19 @@ the deck. The share of mode ``phi`` (mass-normalised) at the observed DOFs ``o``
 
 By MAC, each measured shape is paired with the computed mode of highest MAC (the paper's eq.
 12) at the observed DOFs, one-to-one (an optimal assignment over the MAC table), so modes that
-swap order between two models are still paired with the right measurement.
+swap order between two models are still paired with the right measurement. The assignment pairs
+every measurement, however poorly its shape matches: :meth:`Pairing.weak` names the pairs below
+a least MAC (:data:`MIN_MAC`, 0.8: a measured mode that matches no computed one that well is a
+noise mode or a mode the model lacks, and its frequency error would pull a calibration off).
+A measured shape that is zero at every sensor, or sensors at supported DOFs (where every
+computed shape is zero), make MAC undefined: an error names them.
+
+Sensors. Measured shapes are often known at a few channels only, not at every node x component
+of the observed region: an :class:`Observation` with ``sensors`` (channel names
+``"<node>.<component>"``, as :mod:`bearingfw.oma` writes them) compares shapes at exactly those
+DOFs, in that order, while the region (``nodes`` x ``components``) still decides which computed
+modes count. :func:`identified_measurements` turns modes identified by ``bearingfw oma`` into
+measurements and their sensors.
 """
 
 from __future__ import annotations
@@ -29,9 +41,11 @@ from scipy.optimize import linear_sum_assignment
 
 from bearingfw.analysis import LABELS, ModalResult, energy_shares, label_modes, mac
 from bearingfw.model import COMPONENTS
+from bearingfw.oma.io import IdentifiedModes, channel_dofs, parse_channel
 from bearingfw.parameters import ParameterError, parameter
 
 __all__ = [
+    "MIN_MAC",
     "PAIR_BY",
     "Measurement",
     "Observation",
@@ -39,12 +53,17 @@ __all__ = [
     "Pairing",
     "PairingError",
     "as_measurements",
+    "identified_measurements",
     "observed_modes",
     "pair_modes",
     "paired_shapes",
 ]
 
 PAIR_BY = ("label", "mac")
+#: The least MAC of a trustworthy pair by shape (:meth:`Pairing.weak`): the usual consistency
+#: threshold between a test mode and its FE counterpart (0.8-0.9 in the updating literature);
+#: the lower end, because a few sensors see neighbouring modes alike.
+MIN_MAC = 0.8
 _LABEL = re.compile(rf"^({'|'.join(LABELS)}) ([1-9][0-9]*)$")
 
 
@@ -124,6 +143,12 @@ def _components(value):
     return tuple(str(v).lower() for v in ((value,) if isinstance(value, str) else value))
 
 
+def _sensors(value):
+    if value is None:
+        return None
+    return (str(value),) if isinstance(value, str) else tuple(str(v) for v in value)
+
+
 @attrs.frozen
 class Observation:
     """The measured DOFs: ``nodes`` x ``components``, and the share a mode needs there to count."""
@@ -133,6 +158,7 @@ class Observation:
     min_share: float = parameter(
         low=0.0, high=1.0, high_open=True, default=0.5, doc="least kinetic-energy share at the observed DOFs"
     )
+    sensors: tuple[str, ...] | None = attrs.field(default=None, converter=_sensors)
 
     def __attrs_post_init__(self):
         if not self.nodes:
@@ -140,10 +166,19 @@ class Observation:
         bad = [c for c in self.components if c not in COMPONENTS]
         if bad or not self.components:
             raise ParameterError(f"Observation: field 'components' must be among {', '.join(COMPONENTS)}, got {bad}")
+        if self.sensors is not None:
+            if not self.sensors or len(set(self.sensors)) != len(self.sensors):
+                raise ParameterError(f"Observation: field 'sensors' must be distinct channel names, got {self.sensors}")
+            for name in self.sensors:
+                parse_channel(name)
 
     def dofs(self, system) -> np.ndarray:
         """The observed DOFs of ``system``, node-major."""
         return system.dofmap.dofs(self.nodes, self.components)
+
+    def shape_dofs(self, system) -> np.ndarray:
+        """The DOFs at which shapes are compared: the ``sensors`` in order if given, else :meth:`dofs`."""
+        return self.dofs(system) if self.sensors is None else channel_dofs(system, self.sensors)
 
 
 @attrs.frozen(eq=False)
@@ -199,6 +234,12 @@ class Pairing:
         """Relative frequency errors ``(f - f_measured) / f_measured``."""
         return self.frequencies / self.measured - 1.0
 
+    def weak(self, min_mac: float = MIN_MAC) -> tuple[str, ...]:
+        """Names of the measurements paired by MAC below ``min_mac`` (none when paired by label)."""
+        if self.mac is None:
+            return ()
+        return tuple(m.name for m, v in zip(self.measurements, self.mac, strict=True) if v < min_mac)
+
 
 def _reverse(numbered: dict[str, int]) -> dict[int, str]:
     return {m: lab for lab, m in numbered.items()}
@@ -244,14 +285,14 @@ def pair_modes(
         raise PairingError(
             f"pair_modes: {len(ms)} measured shapes but only {candidates.size} eligible computed modes"
         )
-    dofs = None if observation is None else observation.dofs(modal.system)
+    dofs = None if observation is None else observation.shape_dofs(modal.system)
     computed = modal.shapes[:, candidates] if dofs is None else modal.shapes[np.ix_(dofs, candidates)]
     size = {m.shape.size for m in ms}
     if size != {computed.shape[0]}:
         raise ParameterError(
             f"pair_modes: measured shapes have {sorted(size)} components; the observed DOFs are {computed.shape[0]}"
         )
-    table = mac(np.column_stack([m.shape for m in ms]), computed)
+    table = _mac_table(ms, computed, observation, modal.system)
     rows, cols = linear_sum_assignment(-table)
     chosen = np.empty(len(ms), dtype=int)
     chosen[rows] = cols
@@ -260,7 +301,58 @@ def pair_modes(
     return Pairing(ms, modes, freq[list(modes)], tuple(names[m] for m in modes), values, by)
 
 
+def _mac_table(ms, computed: np.ndarray, observation: Observation | None, system) -> np.ndarray:
+    """MAC of the measured shapes against the computed ones; a computed mode still at every sensor scores 0.
+
+    ``mac`` refuses zero shapes; here a zero measured shape and sensors at supported DOFs are
+    errors that name them, and a computed mode that happens not to move the sensors is no match.
+    """
+    measured = np.column_stack([m.shape for m in ms])
+    zero = [m.name for m in ms if not np.any(m.shape)]
+    if zero:
+        raise ParameterError(
+            f"pair_modes: measured mode(s) {', '.join(map(repr, zero))} have a zero shape at every sensor: "
+            "MAC is undefined"
+        )
+    if observation is not None and observation.sensors is not None:
+        # A supported DOF has an empty row in u = T q: it never moves, whatever the mode.
+        still = system.T.getnnz(axis=1)[observation.shape_dofs(system)] == 0
+        fixed = [c for c, s in zip(observation.sensors, still, strict=True) if s]
+        if fixed:
+            raise ParameterError(
+                f"pair_modes: channel(s) {', '.join(fixed)} are at supported DOFs of the model, where every mode shape "
+                "is zero (sensors on a support read the ground); leave them out of the modes file"
+            )
+    moving = np.any(computed != 0, axis=0)
+    table = np.zeros((measured.shape[1], computed.shape[1]))
+    if np.any(moving):
+        table[:, moving] = mac(measured, computed[:, moving])
+    return table
+
+
 def paired_shapes(modal: ModalResult, pairing: Pairing, observation: Observation | None = None) -> np.ndarray:
     """The paired modes' shapes at the observed DOFs (all DOFs without an observation), one per column."""
     shapes = modal.shapes[:, list(pairing.modes)]
-    return shapes if observation is None else shapes[observation.dofs(modal.system)]
+    return shapes if observation is None else shapes[observation.shape_dofs(modal.system)]
+
+
+def identified_measurements(modes: IdentifiedModes, select=None) -> tuple[tuple[Measurement, ...], tuple[str, ...]]:
+    """Measurements (frequency, shape at the channels, name) from identified modes, and the channels.
+
+    ``select``: mode names or 1-based indices to keep (default all). Pair them ``by="mac"``
+    with an :class:`Observation` whose ``sensors`` are the returned channels.
+    """
+    chosen = list(modes.modes)
+    if select is not None:
+        names = {m.name: k for k, m in enumerate(chosen)}
+        picked = []
+        for item in select:
+            k = item - 1 if isinstance(item, int) else names.get(str(item))
+            if k is None or not 0 <= k < len(chosen):
+                known = ", ".join(f"{j + 1} ({m.name}, {m.frequency:.3f} Hz)" for j, m in enumerate(chosen))
+                raise ParameterError(f"identified_measurements: no identified mode {item!r}; modes: {known}")
+            picked.append(chosen[k])
+        chosen = picked
+    if not chosen:
+        raise ParameterError("identified_measurements: no identified modes to use")
+    return tuple(Measurement(m.frequency, shape=m.shape, name=m.name) for m in chosen), tuple(modes.channels)

@@ -65,7 +65,7 @@ def add_parser(subparsers) -> None:
         description="Identify natural frequencies, damping ratios and mode shapes from a multichannel ambient "
         "acceleration record (CSV with a header of channel names and a time column, or NPZ with one array per "
         "channel) by covariance-driven stochastic subspace identification: poles at every model order up to "
-        "--order, the stabilisation criteria of the paper (2 %% frequency, 2 %% damping, 90 %% MAC between orders) "
+        "--order, the stabilisation criteria of the paper (2 % frequency, 2 % damping, 90 % MAC between orders) "
         "and an automatic selection of the modes (present at most orders from their first, real shapes, a peak in "
         "the averaged spectrum); rejected candidates are listed with the reason. Name channels "
         "'<node>.<component>' (e.g. 'GA32.uz') so that 'bearingfw tune --measured' can pair the modes with a "

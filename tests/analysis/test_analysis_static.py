@@ -17,7 +17,8 @@ from kernel_models import (
     sdof_frame_model,
 )
 
-from bearingfw.analysis import ConvergenceError, factorize, gravity, solve_static
+from bearingfw.analysis import ConvergenceError, factorize, gravity, recover_connector_forces, solve_static
+from bearingfw.analysis.static import SYMMETRIC_ORDERING
 from bearingfw.model import (
     Connector,
     FrameElement,
@@ -394,3 +395,40 @@ def test_a_tilted_bearing_frame_reads_n_along_its_own_z():
     assert res.normal_force("sliding") == pytest.approx(on_deck[2] * np.cos(a) + on_deck[1] * np.sin(a), rel=1e-9)
     total = sum(-(c.rotation.T @ res.connector_force(c.name)) for c in model.connectors)
     np.testing.assert_allclose(total, [0.0, 0.0, SDOF_M * 9.81], atol=1e-9 * SDOF_M * 9.81)
+
+
+def test_factorize_orderings_solve_alike_and_both_detect_a_mechanism():
+    system = build_system(cantilever_model(n=12))
+    b = np.random.default_rng(3).normal(size=system.n_free)
+    x = factorize(system.K_free).solve(b)
+    y = factorize(system.K_free, ordering=SYMMETRIC_ORDERING).solve(b)
+    np.testing.assert_allclose(y, x, rtol=1e-9, atol=1e-12 * np.abs(x).max())
+    mechanism = build_system(bent_beam_pinned_at_one_node()).K_free
+    for ordering in ("COLAMD", SYMMETRIC_ORDERING):
+        with pytest.raises(ModelError, match="mechanism"):
+            factorize(mechanism, ordering=ordering)
+
+
+def test_vectorised_force_recovery_equals_the_equation_by_equation_assignment():
+    """recover_connector_forces builds index arrays (ForceRecovery); check them against a plain loop."""
+    preload = gravity(deck_model("linear-spring", {"k": 4e8}))
+    system = preload.system
+    ops = system.connectors
+    rng = np.random.default_rng(5)
+    u = rng.normal(size=system.n_dof)
+    law = rng.normal(size=ops.n_governed)
+    lam = rng.normal(size=len(system.constraints.equations))
+    forces, reactions = recover_connector_forces(system, u, law, lam)
+    expected = np.zeros((ops.n_connectors, 3))
+    expected[ops.spring_connectors, 2] = ops.kv * (ops.V @ u)
+    for (c, k), f in zip(ops.governed, law, strict=True):
+        expected[c, k] = f
+    expected_reactions = np.zeros((len(system.model.supports), 6))
+    for eq, value in zip(system.constraints.equations, lam, strict=True):
+        if eq.source == "connector":
+            expected[eq.index, eq.component] = -value
+        elif eq.source == "support":
+            expected_reactions[eq.index, eq.component] = value
+    assert any(eq.source == "connector" for eq in system.constraints.equations)
+    np.testing.assert_array_equal(forces, expected)
+    np.testing.assert_array_equal(reactions, expected_reactions)

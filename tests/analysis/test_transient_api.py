@@ -8,8 +8,7 @@ import math
 import numpy as np
 import pytest
 import scipy.sparse as sp
-from kernel_models import deck_model
-from transient_models import COLUMN_K, COLUMN_MASS, band_limited_noise, column_sdof, connector_chain, rel_err
+from kernel_models import COLUMN_K, COLUMN_MASS, band_limited_noise, column_sdof, connector_chain, deck_model, rel_err
 
 from bearingfw import create_law
 from bearingfw.analysis import (
@@ -457,3 +456,35 @@ def test_energy_table_and_stats_carry_the_numerical_dissipation(deck_run):
     assert res.balance_error < 1e-8 < res.numerical_dissipation
     assert res.stats["setup_time"] + res.stats["loop_time"] <= res.stats["wall_time"] + 1e-9
     assert res.stats["failed_iterations"] == 0 and res.stats["backtracks"] >= 0
+
+
+def test_linear_laws_converge_at_the_first_law_call_of_each_step():
+    """The fast path's predictor linearises the laws with the last step's tangent: exact for a
+    linear law, so each step needs one law call (it needed two with the last forces held); the
+    first step has no last tangent yet and takes two."""
+    model = deck_model("linear-spring", {"k": 4e8})
+    ag = band_limited_noise(200, 0.01, seed=3, amplitude=(1.0, 1.0, 0.5))
+    result = solve_transient(model, ag, 0.01, damping=Rayleigh(0.2, 0.002))
+    assert result.stats["steps"] == 199
+    assert result.stats["iterations"] == 199 + 1
+
+
+def test_multiplier_map_gives_the_multipliers_of_the_full_residual():
+    """Recorders read tie forces from a precomputed linear map; it must equal solving the Gram
+    system for the full-DOF residual, for any state (both are linear in it)."""
+    from bearingfw.analysis.excitation import build_excitation
+    from bearingfw.analysis.recorders import Context, Snapshot
+
+    preload = gravity(deck_model("linear-spring", {"k": 4e8}))
+    system = preload.system
+    ag = band_limited_noise(20, 0.01, seed=4, amplitude=(1.0, 1.0, 0.5))
+    nodal = np.random.default_rng(9).normal(size=system.n_dof) * (system.M.diagonal() > 0)
+    ctx = Context(system, preload, build_excitation(system, ag, 0.01), 0.3, 0.004)
+    rng = np.random.default_rng(8)
+    n, m = system.n_free, system.connectors.n_governed
+    snap = Snapshot(0.05, rng.normal(size=n), rng.normal(size=n), rng.normal(size=n), rng.normal(size=m), (),
+                    rng.normal(size=3), rng.normal(size=3), nodal, a_equilibrium=rng.normal(size=n))  # fmt: skip
+    rows = np.arange(len(system.constraints.equations))
+    expected = system.constraints.multipliers(ctx.full_residual(snap))
+    got = ctx.multiplier_map(rows).dynamic(snap, ctx.a0, ctx.a1, preload.law_forces)
+    np.testing.assert_allclose(got, expected, rtol=1e-8, atol=1e-9 * np.abs(expected).max())

@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from scipy.optimize import fsolve
-from transient_models import friction_oscillator
+from kernel_models import friction_oscillator
 
 from bearingfw.analysis import ConnectorResponse, NodalResponse, TransientSettings, gravity, solve_transient
 

@@ -18,8 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from kernel_models import deck_model
-from transient_models import COLUMN_K, COLUMN_MASS, column_sdof, rel_err
+from kernel_models import COLUMN_K, COLUMN_MASS, column_sdof, deck_model, rel_err
 
 from bearingfw.analysis import (
     ConnectorResponse,

@@ -6,8 +6,7 @@ from __future__ import annotations
 import attrs
 import numpy as np
 import pytest
-from kernel_models import deck_model
-from transient_models import band_limited_noise, connector_chain, registry_with_test_laws, rel_err
+from kernel_models import band_limited_noise, connector_chain, deck_model, registry_with_test_laws, rel_err
 
 from bearingfw.analysis import (
     ConnectorResponse,

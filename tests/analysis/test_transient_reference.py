@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from transient_models import (
+from kernel_models import (
     BLOCK_HALF_BASE,
     BLOCK_HEIGHT,
     BLOCK_INERTIA,

@@ -4,30 +4,14 @@ Skipped when OpenSeesPy is not installed (it is the optional extra ``validation`
 loaded, so the default test run does not need it.
 """
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
+from opensees_scripts import load_script, require_opensees
 
-pytest.importorskip("openseespy", reason="OpenSeesPy is the optional extra: pip install -e '.[validation]'")
+require_opensees()
 pytest.importorskip("bearingfw_boucwen", reason="the bouc-wen plugin (plugins/bearingfw-boucwen) is not installed")
 
-VALIDATION = Path(__file__).resolve().parents[2] / "validation"
-sys.path.insert(0, str(VALIDATION))
-
-import _opensees  # noqa: E402
-
-try:
-    _opensees.import_opensees()
-except _opensees.OpenSeesUnavailable as exc:  # installed but its bundled libraries do not load
-    pytest.skip(str(exc), allow_module_level=True)
-
-_spec = importlib.util.spec_from_file_location("bearingfw_validation_laws", VALIDATION / "laws.py")
-laws = importlib.util.module_from_spec(_spec)
-sys.modules[_spec.name] = laws  # dataclasses look their module up there
-_spec.loader.exec_module(laws)
+laws = load_script("laws")
 
 
 @pytest.fixture(scope="module")

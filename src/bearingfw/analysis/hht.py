@@ -29,7 +29,11 @@ Fast path (static condensation onto the ``m`` governed bearing directions): with
 
     g(d) = d - d_lin + c S phi(d) = 0,    d_lin = d_0 + B x_lin,     J = I + c S K_t
 
-by Newton (``K_t`` the laws' block-diagonal consistent tangent). The normal forces follow
+by Newton (``K_t`` the laws' block-diagonal consistent tangent). The first iterate linearises the
+law forces about the last step's converged point with its tangent,
+``(I + c S K_t,n) d = d_lin - c S (phi_n - K_t,n d_n)``: exact for linear laws and sticking
+bearings, which then converge at their first law call (one call per step instead of two). The
+normal forces follow
 ``N = N_lin + c kv (V W) phi``, evaluated for the next iterate with ``phi`` linearised there
 (``phi - K_t delta``); the laws give no ``dphi/dN``, so their dependence on ``N`` lags one
 iteration and the change of ``N`` is part of the convergence test. After convergence
@@ -66,10 +70,10 @@ from collections.abc import Callable
 import attrs
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
+from scipy.linalg.lapack import dgesv as _gesv
 
 from bearingfw.analysis.energy import Energy, advance_energy
-from bearingfw.analysis.static import PIVOT_RATIO, factorize
+from bearingfw.analysis.static import SYMMETRIC_ORDERING, factorize
 from bearingfw.model import ConnectorOperators, ModelError
 
 __all__ = [
@@ -189,23 +193,10 @@ def effective_matrix(M, K, a0: float, a1: float, scheme: Scheme, h: float) -> sp
 
 
 def factor(A):
-    """LU factors of an effective matrix, ordered by minimum degree on ``A^T + A``.
-
-    ``A`` is symmetric: that ordering leaves about a quarter fewer fill-ins than SuperLU's default
-    (COLAMD) on bridge models and makes every back-substitution, the dominant cost of a fast-path
-    step, about 30 % faster; the results differ by round-off only. A failed or (nearly) singular
-    factorisation falls back to the kernel's :func:`~bearingfw.analysis.factorize`, which raises
-    its mechanism error naming the DOFs that move.
-    """
-    A = A.tocsc()
-    try:
-        lu = spla.splu(A, permc_spec="MMD_AT_PLUS_A")
-    except RuntimeError:
-        return factorize(A)
-    pivots = np.abs(lu.U.diagonal())
-    if pivots.size and pivots.min() >= PIVOT_RATIO * pivots.max():
-        return lu
-    return factorize(A)
+    """LU factors of an effective matrix: :func:`~bearingfw.analysis.factorize` with the symmetric
+    ordering (``A`` is symmetric: cheaper back-substitutions, the dominant cost of a fast-path
+    step); a (nearly) singular ``A`` raises its mechanism error naming the DOFs that move."""
+    return factorize(A, ordering=SYMMETRIC_ORDERING)
 
 
 @attrs.frozen(eq=False)
@@ -221,6 +212,10 @@ class Operator:
     cW: np.ndarray | None
     cSN: np.ndarray | None
     m: int = 0
+    eye: np.ndarray = attrs.field(init=False, repr=False)
+
+    def __attrs_post_init__(self):
+        object.__setattr__(self, "eye", np.eye(self.m))
 
     @property
     def cS(self) -> np.ndarray | None:
@@ -274,6 +269,9 @@ class State:
     G: np.ndarray
     rho: np.ndarray
     ae: np.ndarray
+    #: the laws' tangent blocks at ``d`` (fast path; None at the start and on the general path):
+    #: the next step's predictor linearises the law forces with them
+    tangents: list | None = None
 
 
 def initial_state(p: Problem, law_states: tuple, load0: np.ndarray, a0: np.ndarray) -> State:
@@ -336,7 +334,7 @@ def _tangent_times(blocks, vector: np.ndarray) -> np.ndarray:
     """``K_t @ vector`` block by block."""
     out = np.empty_like(vector)
     for rows, t in blocks:
-        out[rows] = np.einsum("nij,nj->ni", t, vector[rows].reshape(t.shape[0], -1)).reshape(-1)
+        out[rows] = (t @ vector[rows].reshape(t.shape[0], -1, 1)).reshape(-1)  # batched: cheaper than einsum
     return out
 
 
@@ -393,10 +391,37 @@ def _stiffness(blocks) -> float:
     return max((_inf(t) for _, t in blocks), default=0.0)
 
 
+def _solve_dense(J: np.ndarray, g: np.ndarray) -> np.ndarray | None:
+    """``J^-1 g`` (LAPACK ``gesv`` directly: numpy's wrapper costs several times the solve at this
+    size), or None when ``J`` is singular."""
+    _, _, x, info = _gesv(J, g)
+    return x if info == 0 else None
+
+
+def _predict(p: Problem, op: Operator, s: State, d_lin: np.ndarray, N_lin: np.ndarray):
+    """The first iterate ``(d, N)`` of a fast-path step.
+
+    With the last step's tangents, the law forces linearised about its converged point,
+    ``phi ~ phi_n + K_t (d - d_n)``, put in ``g(d) = 0``: ``(I + c S K_t) d = d_lin - c S (phi_n - K_t d_n)``.
+    That is exact for a linear law (or a bearing still sticking), which then converges at its first
+    evaluation. Without tangents (the first step), or if that system is singular, the last law
+    forces held: ``d = d_lin - c S phi_n``.
+    """
+    m = p.m
+    phi = s.f - p.f0
+    if s.tangents is not None:
+        held = phi - _tangent_times(s.tangents, s.d)
+        d = _solve_dense(op.eye + _times_tangent(op.cS, s.tangents), d_lin - op.cS @ held)
+        if d is not None and np.isfinite(d).all():
+            return d, N_lin + op.cNW @ (held + _tangent_times(s.tangents, d))
+    sn = op.cSN @ phi
+    return d_lin - sn[:m], N_lin + sn[m:]
+
+
 def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, force_scale: float):
     x_lin = op.solve(r)
     if not p.m:
-        return x_lin, s.f, s.d, p.bearings(x_lin)[1], s.law_states, 0, 0
+        return x_lin, s.f, s.d, p.bearings(x_lin)[1], s.law_states, 0, 0, None
     d_lin, N_lin = p.bearings(x_lin)
     c = 1.0 + p.scheme.alpha
     size = max(_inf(d_lin), p.d0_size)
@@ -414,20 +439,16 @@ def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, for
         finite = _finite(sn, *(t for _, t in blocks))
         return _FastTrial(d, N, responses, f, phi, blocks, g, N_lin + sn[m:], merit, merit <= _ROUND * size, finite)
 
-    # Predictor: the law forces of the last step held.
-    phi = s.f - p.f0
-    sn = op.cSN @ phi
-    trial = evaluate(d_lin - sn[:m], N_lin + sn[m:])
-    eye = np.eye(m)
+    trial = evaluate(*_predict(p, op, s, d_lin, N_lin))
+    eye = op.eye
     delta = np.zeros(m)
     backtracks = 0
     for it in range(1, p.max_iterations + 1):
         if not trial.finite:
             raise StepFailure("a law returned a non-finite force or tangent", np.inf, ~np.isfinite(trial.f), it)
-        try:
-            delta = np.linalg.solve(eye + _times_tangent(op.cS, trial.blocks), trial.g)
-        except np.linalg.LinAlgError:
-            raise StepFailure("singular condensed Jacobian", np.inf, np.abs(trial.g), it) from None
+        delta = _solve_dense(eye + _times_tangent(op.cS, trial.blocks), trial.g)
+        if delta is None:
+            raise StepFailure("singular condensed Jacobian", np.inf, np.abs(trial.g), it)
         d, N, f = trial.d, trial.N, trial.f
         converged = (  # cheapest and most often failing test first
             _inf(delta) <= p.tol_displacement * max(_inf(d - s.d), _inf(d - p.d0)) + _ROUND * size
@@ -437,7 +458,8 @@ def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, for
             <= p.tol_force * max(force_scale, _inf(f)) + _ROUND * c * _stiffness(trial.blocks) * size
         )
         if converged:
-            return x_lin - op.cW @ trial.phi, f, d, N, tuple(rr.state for rr in trial.responses), it, backtracks
+            states = tuple(rr.state for rr in trial.responses)
+            return x_lin - op.cW @ trial.phi, f, d, N, states, it, backtracks, trial.blocks
         # N for the next iterate from the law forces linearised there (exact for linear laws, so
         # they converge in two evaluations); the laws' own dependence on N lags one iteration.
         dN = op.cNW @ _tangent_times(trial.blocks, delta)
@@ -483,7 +505,7 @@ def _solve_general(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, 
     c = 1.0 + p.scheme.alpha
     if not p.m:
         x = op.solve(r)
-        return x, s.f, s.d, p.bearings(x)[1], s.law_states, 0, 0
+        return x, s.f, s.d, p.bearings(x)[1], s.law_states, 0, 0, None
 
     def evaluate(x: np.ndarray) -> _GeneralTrial:
         d, N = p.bearings(x)
@@ -513,7 +535,7 @@ def _solve_general(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, 
             and _inf(trial.R) <= p.tol_force * max(force_scale, _inf(f)) + _ROUND * max(_inf(r), c * _inf(trial.Bt_phi))
         )
         if converged:
-            return trial.x, f, d, trial.N, tuple(rr.state for rr in trial.responses), it, backtracks
+            return trial.x, f, d, trial.N, tuple(rr.state for rr in trial.responses), it, backtracks, None
         base = trial
         trial, k = _line_search(lambda lam, base=base, dx=dx: evaluate(base.x + lam * dx), base)
         backtracks += k
@@ -534,7 +556,7 @@ def step(p: Problem, op: Operator, s: State, t1: float, load1: np.ndarray) -> tu
     r, xt, vt = effective_rhs(p, s, h, load1)
     force_scale = max(_inf(load1), _inf(s.f), p.force_floor)
     solver = _solve_fast if p.fast else _solve_general
-    x, f, d, N, law_states, iterations, backtracks = solver(p, op, s, r, h, force_scale)
+    x, f, d, N, law_states, iterations, backtracks, tangents = solver(p, op, s, r, h, force_scale)
     if not _finite(x):
         raise StepFailure("non-finite displacements", np.inf, np.ones(p.m), iterations)
     a = (x - xt) / (sch.beta * h * h)
@@ -570,5 +592,5 @@ def step(p: Problem, op: Operator, s: State, t1: float, load1: np.ndarray) -> tu
         rho1=rho,
     )
     ae = (a + al * s.ae) / (1.0 + al) if al else a
-    state = State(t1, x, v, a, f, d, N, law_states, load1, Mv, Kv, energy, damping1, Ma, Bt_phi, G, rho, ae)
+    state = State(t1, x, v, a, f, d, N, law_states, load1, Mv, Kv, energy, damping1, Ma, Bt_phi, G, rho, ae, tangents)
     return state, iterations, backtracks

@@ -49,7 +49,7 @@ import scipy.sparse as sp
 
 from bearingfw.analysis.excitation import Excitation
 from bearingfw.analysis.results import SECTION_COMPONENTS, element_stresses, section_forces, section_stresses
-from bearingfw.analysis.static import StaticResult, recover_connector_forces
+from bearingfw.analysis.static import ForceRecovery, StaticResult
 from bearingfw.model import COMPONENTS, FrameElement, ModelError, System
 from bearingfw.model.connectors import normal_force
 from bearingfw.parameters import ParameterError, choice, integer_parameter
@@ -60,6 +60,7 @@ __all__ = [
     "ConnectorResponse",
     "NodalResponse",
     "Context",
+    "MultiplierMap",
     "Snapshot",
     "RESERVED_NAMES",
 ]
@@ -146,6 +147,55 @@ class Snapshot:
 
 
 @attrs.frozen(eq=False)
+class MultiplierMap:
+    """The dynamic multipliers of some constraint equations (``rows``) as a linear map of the state.
+
+    They are rows of ``(C C^T)^-1 C r`` with ``r`` the residual of :meth:`Context.full_residual`,
+    which is linear in ``(a_equilibrium + a0 v, x + a1 v, ground acceleration, f - f_0, nodal)``.
+    Folding ``(C C^T)^-1`` (those rows only), ``C``, ``M``, ``K`` and ``T`` into one small dense
+    matrix per term once makes a sample a few products with ``len(rows)`` rows, instead of
+    full-DOF sparse products and a solve with the whole Gram matrix.
+    """
+
+    rows: np.ndarray
+    inertia: np.ndarray  # (rows, n_free): G_rows C M T
+    stiffness: np.ndarray  # (rows, n_free): G_rows C K T
+    ground: np.ndarray  # (rows, 3): G_rows C M R
+    laws: np.ndarray  # (rows, m): G_rows C B^T
+    nodal: np.ndarray  # (rows, n_dof): G_rows C
+
+    @classmethod
+    def of(cls, system: System, R: np.ndarray, rows) -> MultiplierMap:
+        rows = np.asarray(rows, dtype=int)
+        constraints = system.constraints
+        unit = np.zeros((len(constraints.equations), rows.size))
+        unit[rows, np.arange(rows.size)] = 1.0
+        # rows of (C C^T)^-1, which is symmetric: its columns at ``rows``, transposed
+        G_rows = np.atleast_2d(constraints.solve_gram(unit)).reshape(len(constraints.equations), rows.size).T
+        GC = sp.csr_matrix(G_rows) @ constraints.C.tocsr()
+        GCM = GC @ system.M
+        return cls(
+            rows=rows,
+            inertia=np.asarray((GCM @ system.T).toarray()),
+            stiffness=np.asarray((GC @ system.K @ system.T).toarray()),
+            ground=np.asarray(GCM @ R),
+            laws=np.asarray((GC @ system.connectors.B.T).toarray()),
+            nodal=np.asarray(GC.toarray()),
+        )
+
+    def dynamic(self, s: Snapshot, a0: float, a1: float, law_forces0: np.ndarray) -> np.ndarray:
+        """The multipliers ``rows`` beyond the preload's at the instant ``s``."""
+        a = s.a if s.a_equilibrium is None else s.a_equilibrium
+        lam = (
+            self.inertia @ (a + a0 * s.v)
+            + self.stiffness @ (s.x + a1 * s.v)
+            + self.ground @ s.ground_acceleration
+            + self.laws @ (s.f - law_forces0)
+        )
+        return lam if s.nodal is None else lam - self.nodal @ s.nodal
+
+
+@attrs.frozen(eq=False)
 class Context:
     """What recorders need to know about the run."""
 
@@ -184,6 +234,10 @@ class Context:
         r = sys.M @ (acc + self.a0 * vel) + sys.K @ (T @ s.x + self.a1 * vel)
         r = r + self._Bt @ (s.f - self.preload.law_forces)
         return r if s.nodal is None else r - s.nodal
+
+    def multiplier_map(self, rows) -> MultiplierMap:
+        """:class:`MultiplierMap` of the constraint equations ``rows`` (for recorders: build once)."""
+        return MultiplierMap.of(self.system, self.excitation.R, rows)
 
 
 class _Probe:
@@ -349,8 +403,6 @@ class _ConnectorProbe(_Probe):
         rows = (3 * self.index[:, None] + np.arange(3)[None, :]).reshape(-1)
         self.D = (ops.D[rows] @ sys.T).tocsr()
         self.D0 = ops.D[rows] @ ctx.preload.u
-        tied = {c for c, _ in ops.ties}
-        self.needs_multipliers = bool(tied & set(self.index.tolist()))
         # law quantities (rows of B, per group) -> (selected connector, local direction) slots
         selected = {int(c): k for k, c in enumerate(self.index)}
         self.governed = np.zeros((self.index.size, 3), dtype=bool)
@@ -367,29 +419,42 @@ class _ConnectorProbe(_Probe):
                 members = np.array(members, dtype=int)
                 rows_b = (g.rows.start + g.dims * members[:, None] + np.arange(g.dims)[None, :]).reshape(-1)
                 self.slots.append((gi, members, rows_b, np.array(slot, dtype=int).reshape(-1)))
-        self.laws = [g.law for g in ops.groups]
+        # the laws' slip (an optional protocol member) of the groups whose law has one
+        self.slips = []
+        for gi, members, _, slot in self.slots:
+            law = ops.groups[gi].law
+            if hasattr(law, "slip"):
+                self.slips.append((gi, law.slip, members, slot))
+        self.law_rows = np.concatenate([rows_b for _, _, rows_b, _ in self.slots]) if self.slots else np.zeros(0, int)
+        self.law_slots = np.concatenate([slot for _, _, _, slot in self.slots]) if self.slots else np.zeros(0, int)
         self.reference = np.asarray(ctx.preload.law_reference, dtype=float)
         self.B = sys.B_free
+        self.recovery = ForceRecovery.of(sys)
+        # the tie multipliers these connectors' forces need, as a map of the state (Context.multiplier_map)
+        ties = np.isin(self.recovery.tie_slots // 3, self.index)
+        self.multipliers = ctx.multiplier_map(self.recovery.tie_rows[ties]) if np.any(ties) else None
+        self.springs = (ops.V @ sys.T).tocsr() if ops.spring_connectors.size else None
+        self.springs0 = ops.V @ ctx.preload.u if ops.spring_connectors.size else None
+        self.kv = ops.kv
         self.ctx = ctx
         self.forces, self.disp, self.law_disp, self.slip = [], [], [], []
 
     def _sample(self, s: Snapshot) -> None:
         ctx = self.ctx
-        sys = ctx.system
-        u = sys.T @ (ctx.q0 + s.x)
-        lam = np.zeros(len(sys.constraints.equations))
-        if self.needs_multipliers:
-            lam = ctx.preload.multipliers + sys.constraints.multipliers(ctx.full_residual(s))
-        forces, _ = recover_connector_forces(sys, u, s.f, lam)
+        lam = ctx.preload.multipliers
+        if self.multipliers is not None:
+            lam = lam.copy()
+            lam[self.multipliers.rows] += self.multipliers.dynamic(s, ctx.a0, ctx.a1, ctx.preload.law_forces)
+        springs = self.kv * (self.springs0 + self.springs @ s.x) if self.springs is not None else np.zeros(0)
+        forces = self.recovery.connector_forces(springs, s.f, lam)
         self.forces.append(forces[self.index])
         self.disp.append((self.D0 + self.D @ s.x).reshape(-1, 3))
         d = (self.B @ (ctx.q0 + s.x) - self.reference) if s.d is None else s.d
         law_disp = np.full(3 * self.index.size, np.nan)
+        law_disp[self.law_slots] = d[self.law_rows]
         slip = np.full(3 * self.index.size, np.nan)
-        for gi, members, rows_b, slot in self.slots:
-            law_disp[slot] = d[rows_b]
-            if hasattr(self.laws[gi], "slip"):  # optional protocol member: the irreversible displacement
-                slip[slot] = np.asarray(self.laws[gi].slip(s.law_states[gi]), dtype=float)[members].reshape(-1)
+        for gi, slip_of, members, slot in self.slips:
+            slip[slot] = np.asarray(slip_of(s.law_states[gi]), dtype=float)[members].reshape(-1)
         self.law_disp.append(law_disp.reshape(-1, 3))
         self.slip.append(slip.reshape(-1, 3))
 

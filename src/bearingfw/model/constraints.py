@@ -210,6 +210,12 @@ class Constraints:
             return np.zeros(0)
         return self._gram.solve(self.C @ residual)
 
+    def solve_gram(self, projected: np.ndarray) -> np.ndarray:
+        """``(C C^T)^-1 projected``: :meth:`multipliers` for a residual already multiplied by ``C``."""
+        if not self.equations:
+            return np.zeros(0)
+        return self._gram.solve(projected)
+
 
 def build_constraints(n_dof: int, equations: Sequence[Equation], touched: np.ndarray) -> Constraints:
     """Eliminate ``equations`` and build ``T``; DOFs not ``touched`` (boolean, full) are dropped.

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import ast
 from pathlib import Path
 
 import attrs
 import pytest
+from import_graph import imported_modules as imports
 
 import bearingfw
 from bearingfw.bridges import CALIBRATED, BridgeParameters
@@ -16,16 +16,6 @@ ROOT = Path(bearingfw.__file__).parent
 NEVER = ("bearingfw.motion", "bearingfw.experiment", "bearingfw.cli")
 #: The two bridge modules that join the model with the tuning method.
 GLUE = {"study.py", "calibrate_defaults.py"}
-
-
-def imports(path: Path) -> list[str]:
-    names = []
-    for node in ast.walk(ast.parse(path.read_text())):
-        if isinstance(node, ast.Import):
-            names += [a.name for a in node.names]
-        elif isinstance(node, ast.ImportFrom) and node.module:
-            names.append(node.module)
-    return names
 
 
 @pytest.mark.parametrize("package", ["bridges", "tuning"])

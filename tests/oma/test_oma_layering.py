@@ -2,28 +2,18 @@
 
 from __future__ import annotations
 
-import ast
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+from import_graph import imported_modules as imports
 
 import bearingfw
 
 ROOT = Path(bearingfw.__file__).parent
 HIGHER = ("bearingfw.bridges", "bearingfw.tuning", "bearingfw.experiment", "bearingfw.cli")
 LOWER = ("plugins", "model", "analysis", "motion")
-
-
-def imports(path: Path) -> list[str]:
-    names = []
-    for node in ast.walk(ast.parse(path.read_text())):
-        if isinstance(node, ast.Import):
-            names += [a.name for a in node.names]
-        elif isinstance(node, ast.ImportFrom) and node.module:
-            names.append(node.module)
-    return names
 
 
 def test_oma_imports_no_higher_layer():

@@ -20,8 +20,18 @@ from collections.abc import Iterable
 from typing import Any
 
 import attrs
+import numpy as np
 
-__all__ = ["ParameterError", "choice", "describe_range", "dims_parameter", "integer_parameter", "owner_of", "parameter"]
+__all__ = [
+    "ParameterError",
+    "check_per_bearing",
+    "choice",
+    "describe_range",
+    "dims_parameter",
+    "integer_parameter",
+    "owner_of",
+    "parameter",
+]
 
 
 class ParameterError(ValueError):
@@ -46,6 +56,18 @@ def _to_float(value: Any) -> Any:
     return value
 
 
+def _to_floats(value: Any) -> Any:
+    """A scalar as :func:`_to_float`; a non-empty 1-D sequence of real numbers as a read-only float array."""
+    if isinstance(value, (list, tuple, np.ndarray)):
+        array = np.asarray(value)
+        if array.ndim == 1 and array.size and (array.dtype.kind in "iuf"):
+            array = array.astype(float)  # a copy: the caller's array stays theirs
+            array.setflags(write=False)
+            return array
+        return value
+    return _to_float(value)
+
+
 def owner_of(instance) -> str:
     """How an error names the object: a law by its registry key, anything else by class and name."""
     name = getattr(instance, "name", None)
@@ -66,38 +88,57 @@ def parameter(
     unit: str = "",
     doc: str = "",
     typical: float | None = None,
+    per_bearing: bool = False,
 ):
     """An attrs field for a finite real parameter within ``[low, high]`` (ends open on request).
 
     ``optional=True`` makes ``None`` (then the default) mean "not given". ``typical`` is a
     representative magnitude (e.g. 4e8 for a bearing's stiffness in N/m); the hypothesis
     strategies of :mod:`bearingfw.testing` draw around it when the range is open.
+    ``per_bearing=True`` also accepts a 1-D array of such numbers, one per connector of the law
+    (stored read-only as float64; see :func:`check_per_bearing` and :mod:`bearingfw.protocol`).
     """
     if optional and default is attrs.NOTHING:
         default = None
+
+    def outside(value: float) -> bool:
+        bad = not math.isfinite(value)
+        bad |= low is not None and (value <= low if low_open else value < low)
+        bad |= high is not None and (value >= high if high_open else value > high)
+        return bad
 
     def check(instance, attribute, value):
         if optional and value is None:
             return
         name = attribute.name
         allowed = describe_range(name, low, high, low_open, high_open)
+        if per_bearing and isinstance(value, np.ndarray) and value.dtype == float:
+            bad = [i for i, v in enumerate(value.tolist()) if outside(v)]
+            if bad:
+                raise ParameterError(
+                    f"{owner_of(instance)}: parameter {name!r}[{bad[0]}] = {float(value[bad[0]])!r} is outside the "
+                    f"allowed range {allowed} ({len(bad)} of {value.size} values are)"
+                )
+            return
         if not isinstance(value, float):
+            what = "a real number or a 1-D array of real numbers (one per bearing)" if per_bearing else "a real number"
             raise ParameterError(
-                f"{owner_of(instance)}: parameter {name!r} must be a real number ({allowed})"
+                f"{owner_of(instance)}: parameter {name!r} must be {what} ({allowed})"
                 f"{' or None' if optional else ''}, got {type(value).__name__} {value!r}"
             )
-        bad = not math.isfinite(value)
-        bad |= low is not None and (value <= low if low_open else value < low)
-        bad |= high is not None and (value >= high if high_open else value > high)
-        if bad:
+        if outside(value):
             raise ParameterError(
                 f"{owner_of(instance)}: parameter {name!r} = {value!r} is outside the allowed range {allowed}"
             )
 
     return attrs.field(
         default=default,
-        converter=_to_float,
+        converter=_to_floats if per_bearing else _to_float,
         validator=check,
+        # attrs' generated __eq__ cannot compare arrays: compare per-bearing values element-wise.
+        # (and leave them out of the hash: an array is not hashable).
+        eq=attrs.cmp_using(eq=_same_values) if per_bearing else True,
+        hash=False if per_bearing else None,
         # "{name}" is filled in by whoever lists the parameter under its own name.
         metadata={
             "range": describe_range("{name}", low, high, low_open, high_open),
@@ -105,8 +146,27 @@ def parameter(
             "doc": doc,
             "bounds": (low, high, low_open, high_open),
             "typical": typical,
+            "per_bearing": per_bearing,
         },
     )
+
+
+def _same_values(a, b) -> bool:
+    return bool(np.array_equal(np.asarray(a), np.asarray(b)))
+
+
+def check_per_bearing(law: Any, n: int) -> None:
+    """Raise a :class:`ParameterError` if a per-bearing parameter of ``law`` is an array whose
+    length is not ``n`` (the number of connectors ``respond`` or ``initial_state`` was given)."""
+    for field in attrs.fields(type(law)):
+        if not field.metadata.get("per_bearing"):
+            continue
+        value = getattr(law, field.name)
+        if isinstance(value, np.ndarray) and value.shape != (n,):
+            raise ParameterError(
+                f"{owner_of(law)}: parameter {field.name!r} holds {value.size} per-bearing values but the law "
+                f"was called for {n} connector(s)"
+            )
 
 
 def dims_parameter(default: int = 1):

@@ -21,6 +21,30 @@ Optional members that tools use when present:
   (friction: ``mu * N``); the conformance suite checks it.
 - ``slip(state) -> (n, dims)``: the irreversible part of the relative displacement in a
   committed state (friction: the accumulated slip ``u_p``); recorders report it as "slip".
+
+What a law may ask for (class attributes, all optional; a law that declares none of them is
+called exactly as above):
+
+- ``uses_velocity = True``: ``respond(state, u, normal_force, dt, velocity=v)`` with ``v``
+  ``(n, dims)``, the trial relative velocity (m/s) of the governed directions at the trial point,
+  consistent with the integrator (zeros in static calls). Since the integrator's velocity moves
+  with ``u`` (HHT: ``dv/du = gamma / (beta dt)``), the response may carry
+  ``dforce_dvelocity`` ``(n, dims, dims)``; the kernel adds it to ``tangent`` with that factor.
+  ``tangent`` is then d force / d u at fixed velocity.
+- ``normal_coupling = True``: the response carries ``dforce_dnormal`` ``(n, dims)``, d force / d N
+  at fixed ``u`` (and velocity), so that Newton includes the friction-normal force coupling
+  (without it the kernel lets ``N`` lag one iteration).
+- ``per_bearing = True``: every numeric parameter (made with ``bearingfw.parameter(...,
+  per_bearing=True)``) may be a real number or an array of one value per connector; the kernel
+  then gives all connectors of this law and ``dims`` one law object (one call per Newton
+  iteration), with arrays only for the parameters that differ between them.
+- ``friction = True``: the force is carried by contact at a sliding surface; force and tangent
+  are zero whenever ``N <= 0`` (tension, lift-off).
+- ``rate_dependent = True``: the response depends on ``dt`` or the velocity (implied by
+  ``uses_velocity``). A law that does not say so must give the same forces along a displacement
+  path whatever the time step.
+- ``rate_independent_limit() -> (law, equivalent)``: for a rate-dependent law, a copy of it with
+  its rate dependence switched off and a rate-independent law that must then respond identically.
 """
 
 from __future__ import annotations
@@ -30,10 +54,26 @@ from typing import Any, Protocol, runtime_checkable
 import attrs
 import numpy as np
 
-__all__ = ["BearingLaw", "LawResponse", "PROTOCOL_MEMBERS"]
+__all__ = ["BearingLaw", "LawResponse", "OPTIONAL_FLAGS", "PROTOCOL_MEMBERS", "law_flag"]
 
 #: Members every law must have; the plugin registry reports a law class that lacks one.
 PROTOCOL_MEMBERS = ("name", "dims", "rigid", "initial_state", "respond")
+#: Optional boolean class attributes by which a law asks for more (module docstring), all False
+#: when absent.
+OPTIONAL_FLAGS = ("uses_velocity", "normal_coupling", "per_bearing", "friction", "rate_dependent")
+
+
+def law_flag(law: Any, flag: str) -> bool:
+    """The value of the optional protocol flag ``flag`` of ``law`` (an object or a class); False if absent.
+
+    ``rate_dependent`` is implied by ``uses_velocity``.
+    """
+    if flag not in OPTIONAL_FLAGS:
+        raise ValueError(f"unknown protocol flag {flag!r}; one of {', '.join(OPTIONAL_FLAGS)}")
+    value = bool(getattr(law, flag, False))
+    if flag == "rate_dependent":
+        value = value or bool(getattr(law, "uses_velocity", False))
+    return value
 
 
 @attrs.frozen
@@ -41,11 +81,15 @@ class LawResponse:
     """What :meth:`BearingLaw.respond` returns for a trial displacement.
 
     ``state`` is the trial state: the caller adopts it only when the time step is committed.
+    ``dforce_dnormal`` ``(n, dims)`` and ``dforce_dvelocity`` ``(n, dims, dims)`` are given by laws
+    that declare ``normal_coupling`` and ``uses_velocity`` (module docstring), else None.
     """
 
     force: np.ndarray
     tangent: np.ndarray
     state: Any
+    dforce_dnormal: np.ndarray | None = None
+    dforce_dvelocity: np.ndarray | None = None
 
 
 @runtime_checkable

@@ -3,7 +3,7 @@
 from importlib.metadata import PackageNotFoundError, version
 
 from bearingfw.parameters import ParameterError, dims_parameter, parameter
-from bearingfw.plugins import create_law, get_registry, hookimpl
+from bearingfw.plugins import BearingPreset, PresetBearing, create_law, get_registry, hookimpl
 from bearingfw.protocol import BearingLaw, LawResponse
 
 try:
@@ -13,6 +13,8 @@ except PackageNotFoundError:  # running from a source tree that was not installe
 
 __all__ = [
     "BearingLaw",
+    "BearingPreset",
+    "PresetBearing",
     "LawResponse",
     "ParameterError",
     "__version__",

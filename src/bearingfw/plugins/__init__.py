@@ -1,10 +1,12 @@
 """The plugin layer: hook specifications and the registry built from installed plugins."""
 
+from bearingfw.plugins.contracts import BearingPreset, PresetBearing
 from bearingfw.plugins.hookspecs import hookimpl, hookspec
 from bearingfw.plugins.registry import (
     BrokenPlugin,
     Registry,
     UnknownLawError,
+    UnknownPresetError,
     create_law,
     describe_parameters,
     get_registry,
@@ -12,9 +14,12 @@ from bearingfw.plugins.registry import (
 )
 
 __all__ = [
+    "BearingPreset",
+    "PresetBearing",
     "BrokenPlugin",
     "Registry",
     "UnknownLawError",
+    "UnknownPresetError",
     "create_law",
     "describe_parameters",
     "get_registry",

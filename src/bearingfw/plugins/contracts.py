@@ -1,4 +1,4 @@
-"""The data types of the ground-motion hooks: record readers and intensity scales.
+"""The data types of the hooks that contribute data: record readers, intensity scales, presets.
 
 They live in the plugin layer (the lowest one) so that the registry can check a contribution
 without importing :mod:`bearingfw.motion`; :mod:`bearingfw.motion` re-exports both.
@@ -25,7 +25,7 @@ import numpy as np
 
 from bearingfw.parameters import ParameterError
 
-__all__ = ["IntensityScale", "RecordReader", "BOUNDARY_RTOL", "check_suffixes"]
+__all__ = ["BearingPreset", "IntensityScale", "PresetBearing", "RecordReader", "BOUNDARY_RTOL", "check_suffixes"]
 
 #: Relative tolerance of a degree boundary: a PGA_H10 within rounding of a boundary is *on* it
 #: and so belongs to the lower degree (the bounds are inclusive).
@@ -226,3 +226,29 @@ class IntensityScale:
         if missing:
             raise ParameterError(f"intensity scale {name!r}: missing field(s) {', '.join(map(repr, missing))}")
         return cls(**data)
+
+
+@attrs.frozen
+class PresetBearing:
+    """What a preset knows of one sliding bearing when it chooses its law.
+
+    ``ks``: the stick stiffness K_s (N/m); ``friction``: the friction coefficient mu;
+    ``dead_load``: the bearing's compressive normal force under the dead load (N), given only to
+    presets that declare ``needs_dead_load`` (else None).
+    """
+
+    name: str
+    ks: float
+    friction: float
+    dead_load: float | None = None
+
+
+@attrs.frozen
+class BearingPreset:
+    """A named bearing model: ``law(PresetBearing) -> (law name, parameters)``, or None for a
+    fixed (JOIN) bearing. ``needs_dead_load``: ``law`` reads ``PresetBearing.dead_load``."""
+
+    name: str = attrs.field(validator=_non_empty_name)
+    description: str = attrs.field(validator=attrs.validators.instance_of(str))
+    law: Callable[[PresetBearing], tuple[str, dict] | None] = attrs.field(validator=_check_callable)
+    needs_dead_load: bool = attrs.field(default=False, validator=attrs.validators.instance_of(bool))

@@ -69,3 +69,36 @@ def bearingfw_register_intensity_scales():
     outside). The constructor checks the table (shapes, positive bounds increasing from degree
     to degree); a scale that fails is reported by ``bearingfw plugins``.
     """
+
+
+@hookspec
+def bearingfw_register_presets():
+    """Return a list of :class:`bearingfw.plugins.contracts.BearingPreset` objects (re-exported as
+    ``bearingfw.BearingPreset``).
+
+    A preset is a named bearing model for the sliding bearings of a bridge built from presets
+    (the reference bridge, and any builder that asks the registry): ``law(bearing)`` gets a
+    :class:`~bearingfw.plugins.contracts.PresetBearing` (the bearing's name, the stick stiffness
+    K_s, the friction coefficient and, when ``needs_dead_load``, its dead-load normal force) and
+    returns ``(law name, parameters)`` for that bearing, or None to fix it (JOIN). A law package
+    contributes the preset of its own law here, so that ``[models.X] preset = "..."`` runs it.
+    """
+
+
+@hookspec
+def bearingfw_register_metrics():
+    """Return a list of metric families for the experiment runner.
+
+    A metric family is an object with a unique ``name`` (str) and the members documented in
+    :mod:`bearingfw.experiment.metrics` (unit, what it reads from a cell's results, how it reduces
+    to one number, its note in the report). The registry only checks the ``name``.
+    """
+
+
+@hookspec
+def bearingfw_register_executors():
+    """Return a list of executors for the experiment runner (``bearingfw run --executor NAME``).
+
+    An executor is an object with a unique ``name`` (str) and the members documented in
+    :mod:`bearingfw.experiment.executors`. The registry only checks the ``name``.
+    """

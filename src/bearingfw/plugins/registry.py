@@ -23,7 +23,7 @@ import pluggy
 
 from bearingfw.parameters import ParameterError
 from bearingfw.plugins import hookspecs
-from bearingfw.plugins.contracts import IntensityScale
+from bearingfw.plugins.contracts import BearingPreset, IntensityScale
 from bearingfw.protocol import PROTOCOL_MEMBERS, BearingLaw
 
 ENTRY_POINT_GROUP = "bearingfw"
@@ -73,6 +73,17 @@ class Registry:
     plugin_manager: pluggy.PluginManager = attrs.field(repr=False, eq=False)
     record_readers: dict[str, Entry] = attrs.field(factory=dict)
     intensity_scales: dict[str, Entry] = attrs.field(factory=dict)
+    presets: dict[str, Entry] = attrs.field(factory=dict)
+    metrics: dict[str, Entry] = attrs.field(factory=dict)
+    executors: dict[str, Entry] = attrs.field(factory=dict)
+
+    def preset(self, name: str) -> BearingPreset:
+        """The preset called ``name``; :class:`UnknownPresetError` names the known ones."""
+        try:
+            return self.presets[name].value
+        except KeyError:
+            known = ", ".join(sorted(self.presets)) or "(none)"
+            raise UnknownPresetError(f"unknown bearing preset {name!r}; known presets: {known}") from None
 
     def law_class(self, name: str) -> type:
         try:
@@ -80,6 +91,33 @@ class Registry:
         except KeyError:
             known = ", ".join(sorted(self.laws)) or "(none: is bearingfw installed with pip?)"
             raise UnknownLawError(f"unknown bearing law {name!r}; known laws: {known}") from None
+
+
+class UnknownPresetError(KeyError):
+    """No installed plugin registers a preset of this name."""
+
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else ""
+
+
+def _preset_key(preset: Any) -> str:
+    if not isinstance(preset, BearingPreset):
+        raise TypeError(
+            f"bearingfw_register_presets must return bearingfw.BearingPreset objects, got {preset!r}"
+        )
+    return preset.name
+
+
+def _named_key(kind: str) -> Callable[[Any], str]:
+    """The check of a duck-typed contribution that the registry only knows by its ``name``."""
+
+    def key(item: Any) -> str:
+        name = getattr(item, "name", None)
+        if not isinstance(name, str) or not name:
+            raise TypeError(f"{kind} {item!r}: 'name' must be a non-empty string")
+        return name
+
+    return key
 
 
 def _law_key(cls: Any) -> str:
@@ -217,8 +255,12 @@ def load_registry(entry_points: Iterable[metadata.EntryPoint] | None = None) -> 
     laws = _collect(pm, "bearingfw_register_laws", _law_key, origins, broken)
     readers = _collect(pm, "bearingfw_register_record_readers", _reader_key, origins, broken)
     scales = _collect(pm, "bearingfw_register_intensity_scales", _scale_key, origins, broken)
+    presets = _collect(pm, "bearingfw_register_presets", _preset_key, origins, broken)
+    metrics = _collect(pm, "bearingfw_register_metrics", _named_key("metric"), origins, broken)
+    executors = _collect(pm, "bearingfw_register_executors", _named_key("executor"), origins, broken)
     return Registry(
-        laws=laws, broken=tuple(broken), plugin_manager=pm, record_readers=readers, intensity_scales=scales
+        laws=laws, broken=tuple(broken), plugin_manager=pm, record_readers=readers, intensity_scales=scales,
+        presets=presets, metrics=metrics, executors=executors,
     )
 
 

@@ -129,3 +129,15 @@ def test_a_band_outside_the_record_is_named(frequency, spec):
 def test_bad_filter_parameters_are_named(kwargs, message):
     with pytest.raises(ParameterError, match=message):
         DecayFilter(**kwargs)
+
+
+def test_a_fit_whose_frequency_lies_outside_its_band_is_refused():
+    """A clean free decay of a 1.5 Hz mode alone, fitted at 3.36 Hz: what passes the band is the 1.5 Hz mode's
+    leak through the filter's skirts (a perfect straight line in ln(peak), r2 = 1), not a mode at 3.36 Hz."""
+    dt, f1, zeta = 0.01, 1.5, 0.02
+    t = np.arange(0.0, 60.0, dt)
+    w = 2 * np.pi * f1
+    y = np.where(t > 5.0, np.exp(-zeta * w * (t - 5.0)) * np.cos(w * np.sqrt(1 - zeta**2) * (t - 5.0)), 0.0)
+    assert log_decrement(y, dt, f1).damping == pytest.approx(zeta, rel=0.05)  # its own band: fine
+    with pytest.raises(ParameterError, match=r"oscillates at 1\.\d+ Hz, outside the band 3\.0\d*\.\.3\.69"):
+        log_decrement(y, dt, 3.36, start=5.0)

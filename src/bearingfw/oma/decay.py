@@ -108,9 +108,13 @@ class DecayFilter:
     )
 
 
-def _band(dt: float, centre: float, spec: DecayFilter) -> np.ndarray:
+def _band_limits(centre: float, spec: DecayFilter) -> tuple[float, float]:
     width = spec.bandwidth if spec.bandwidth is not None else spec.relative_bandwidth * centre
-    low, high = centre - width / 2, centre + width / 2
+    return centre - width / 2, centre + width / 2
+
+
+def _band(dt: float, centre: float, spec: DecayFilter) -> np.ndarray:
+    low, high = _band_limits(centre, spec)
     nyquist = 0.5 / dt
     if not 0 < low < high < nyquist:
         raise ParameterError(
@@ -255,6 +259,15 @@ def log_decrement(
             f"{spec.min_r2:g}): forced motion, beating modes or noise (check the start, narrow the band)"
         )
     f_d = 1.0 / (2.0 * float(np.mean(np.diff(tt))))
+    low, high = _band_limits(frequency, spec)
+    if not low <= f_d <= high:
+        # The peaks are another mode leaking through the band's skirts (a strong mode nearby):
+        # their decrement is that mode's, not this one's.
+        raise ParameterError(
+            f"{where}: the fitted decay oscillates at {f_d:.4g} Hz, outside the band {low:.4g}..{high:.4g} Hz "
+            f"({span}): another mode leaks through the filter; no free decay of this mode was found "
+            "(check the frequency, narrow the band or choose another start)"
+        )
     delta = -slope / f_d
     return Decay(
         float(frequency), f_d, delta, damping_ratio_from_log_decrement(delta), tt, amplitude[first:last], filtered, r2

@@ -56,12 +56,21 @@ def test_step2_model_is_regularized_coulomb_with_the_fitted_ks():
 
 
 def test_step2_model_runs_a_time_history():
-    """The tuned M2 model goes through the transient solver (a short pulse, a few dozen steps)."""
+    """The tuned M2 model under a short transverse pulse: it completes, balances its energy, and its bearings
+    respect friction (|F_h| <= mu N) while the strong shaking makes some of them slide."""
     from bearingfw.analysis import solve_transient
+    from bearingfw.analysis.recorders import ConnectorResponse
 
     dt = 0.02
     t = np.arange(0.0, 0.4, dt)
     acc = np.zeros((t.size, 3))
     acc[:, 1] = 0.5 * np.sin(2 * np.pi * 2.5 * t)
-    result = solve_transient(tuned_bridge(4e8), acc, dt)
-    assert result is not None
+    result = solve_transient(tuned_bridge(4e8), acc, dt, recorders=[ConnectorResponse()])
+    assert result.completed and result.stats["steps"] == t.size - 1
+    assert result.balance_error < 1e-9 and result.energy_error < 0.01
+    ratio = result["connectors.friction_ratio"]  # |F| / N of the friction (law) directions
+    sliding = np.isfinite(ratio)
+    assert sliding.any() and np.all(result["connectors.normal_force"][sliding] > 0)
+    assert np.all(ratio[sliding] <= 0.04 * (1 + 1e-9))
+    assert np.nanmax(ratio) == pytest.approx(0.04, rel=1e-9)  # some bearings slide
+    assert np.abs(result["connectors.slip"]).max() > 1e-4

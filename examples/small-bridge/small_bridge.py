@@ -47,13 +47,23 @@ def build(
     bearing_offset: float = 0.6,
     superimposed_dead_load: float = 3000.0,
     bearing_vertical_stiffness: float = 5e9,
+    bearing_stiffness: float | None = None,
+    concrete_modulus: float = 34e9,
 ) -> Model:
-    """The two-span girder (module docstring); every bearing starts frictionless (the models replace it).
+    """The two-span girder (module docstring).
+
+    Every sliding bearing starts frictionless (the models of an experiment replace it), or, with
+    ``bearing_stiffness`` (N/m), a linear spring of that stiffness in its sliding directions: a
+    pot bearing that sticks under ambient vibration, the parameter ``bearingfw tune`` calibrates
+    here. ``concrete_modulus`` (Pa) is the girder's and the pier's E; ``superimposed_dead_load``
+    (kg/m) the girder's added mass: both parameters worth tuning too.
 
     Elements: girder ``G0`` .. ``G<2n-1>`` (``G<n>`` starts over the pier, ``G<n//2>`` at the first
-    mid-span), pier ``P1`` .. ``P4``. Bearings ``1A`` .. ``3B``.
+    mid-span), pier ``P1`` .. ``P4``. Bearings ``1A`` .. ``3B``. Nodes: girder axis ``G0`` ..
+    ``G<2n>``, pier ``P0`` (base) .. ``P4`` (top), each bearing's ``<name>.girder`` and ``<name>.seat``.
     """
-    concrete = Material("C35/45", 34e9, density=2500.0, nu=0.2)
+    concrete = Material("C35/45", concrete_modulus, density=2500.0, nu=0.2)
+    law = ("frictionless", {}) if bearing_stiffness is None else ("linear-spring", {"k": bearing_stiffness})
     girder = Section.rectangle("girder", girder_width, girder_depth)
     column = Section.rectangle("pier", pier_side, pier_side)
     n = elements_per_span
@@ -93,7 +103,7 @@ def build(
                 connectors.append(Connector(name, seat, girder_side, "join"))
             else:
                 connectors.append(Connector(
-                    name, seat, girder_side, kind, law="frictionless", vertical_stiffness=bearing_vertical_stiffness,
-                    **({"guided": guided} if guided else {}),
+                    name, seat, girder_side, kind, law=law[0], law_params=law[1],
+                    vertical_stiffness=bearing_vertical_stiffness, **({"guided": guided} if guided else {}),
                 ))
     return Model(nodes, elements, connectors, rigid_links=links, supports=supports, name="two-span girder")

@@ -64,3 +64,39 @@ def test_tune_table(capsys):
     code, out, _ = run(capsys, "tune")
     assert code == 0
     assert "eq. 11" in out and "least squares" in out and "Rayleigh" in out
+
+
+def test_modal_structure_reference_is_the_model_option(capsys):
+    """``--structure reference`` with ``--option preset=M1 --option ks=...`` is ``--model M1 --ks ...``; other
+    options are BridgeParameters fields."""
+    code, out, _ = run(capsys, "modal", "--model", "M1", "--ks", "4e8", "--modes", "5", "--json")
+    assert code == 0
+    by_flags = json.loads(out)
+    code, out, _ = run(capsys, "modal", "--structure", "reference", "--option", "preset=M1", "--option", "ks=4e8",
+                       "--modes", "5", "--json")
+    assert code == 0
+    by_options = json.loads(out)
+    assert by_options["structure"] == by_flags["structure"] == "reference"
+    assert (by_options["model"], by_options["ks"]) == ("M1", 4e8)
+    assert [m["frequency"] for m in by_options["modes"]] == [m["frequency"] for m in by_flags["modes"]]
+    # a heavier deck lowers every frequency
+    code, out, _ = run(capsys, "modal", "--option", "superimposed_dead_load=8000", "--modes", "5", "--json")
+    assert code == 0
+    heavier = json.loads(out)
+    assert heavier["options"] == {"superimposed_dead_load": 8000}
+    code, out, _ = run(capsys, "modal", "--modes", "5", "--json")
+    default = json.loads(out)
+    assert all(h["frequency"] < d["frequency"] for h, d in zip(heavier["modes"], default["modes"], strict=True))
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["--option", "spanz=[30]"], "unknown option 'spanz' (did you mean spans?)"),
+        (["--option", "girder_depth=-1"], "structure 'reference': "),
+        (["--ks", "4e8", "--option", "ks=3e8"], "--ks and --option ks=... both give the ks"),
+    ],
+)
+def test_modal_reference_option_errors(capsys, argv, message):
+    code, _, err = run(capsys, "modal", *argv)
+    assert code == 1 and message in err and "Traceback" not in err

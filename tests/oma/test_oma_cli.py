@@ -145,6 +145,8 @@ def test_oma_is_a_command_with_help():
         (["tune", "--modes", "1"], "need identified modes"),
         (["tune", "--min-mac", "0.9"], "need identified modes"),
         (["tune", "--measured", "missing.json"], "cannot read"),
+        (["tune", "--scan", "3"], "apply to --structure"),
+        (["tune", "--n-modes", "30", "--measured", "missing.json"], "apply to --structure"),
     ],
 )
 def test_tune_measured_errors_are_named(capsys, tmp_path, argv, message):

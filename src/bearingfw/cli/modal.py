@@ -1,4 +1,5 @@
-"""``bearingfw modal``: the reference bridge's modes under one of the paper's bearing models."""
+"""``bearingfw modal``: the modes of a structure: the reference bridge under one of the paper's bearing
+models (default), or a user's structure (``--structure module:function`` with ``--option key=value``)."""
 
 from __future__ import annotations
 
@@ -12,45 +13,71 @@ def add_parser(subparsers) -> None:
     # bearingfw.bridges.paper is light; the model itself is imported when the command runs
     from bearingfw.bridges.paper import KS_FIT
 
+    from bearingfw.structures import OPTION_HELP, STRUCTURE_HELP
+
     parser = subparsers.add_parser(
         "modal",
-        help="natural frequencies and mode shapes of the reference bridge",
+        help="natural frequencies and mode shapes of the reference bridge or of your structure",
         description="Modal analysis of the paper's reference bridge with a bearing model: frequencies, labels "
         "(vertical, lateral, longitudinal, torsional), the share of each mode's kinetic energy in the deck "
-        "(where the paper's sensors were), effective masses, and which modes answer the paper's Table 2.",
+        "(where the paper's sensors were), effective masses, and which modes answer the paper's Table 2. "
+        "With --structure, the modes of your own structure as its function builds it (its bearings' laws as it "
+        "sets them): frequencies, labels from the modal kinetic energy (x along the bridge, z up), each mode's "
+        "dominant component and its effective masses.",
+    )
+    parser.add_argument("--structure", metavar="SPEC", help=STRUCTURE_HELP)
+    parser.add_argument("--option", action="append", default=[], metavar="KEY=VALUE", help=OPTION_HELP)
+    parser.add_argument(
+        "--model", default=None, metavar="NAME",
+        help="reference bridge: bearing model, a preset of bearingfw.bridges: M0 (frictionless, default), "
+        "M1 (linear springs K_s), M2 (regularized Coulomb), fixed (every bearing fixed) or bouc-wen",
     )
     parser.add_argument(
-        "--model", default="M0", metavar="NAME",
-        help="bearing model, a preset of bearingfw.bridges: M0 (frictionless, default), M1 (linear springs K_s), "
-        "M2 (regularized Coulomb), fixed (every bearing fixed) or bouc-wen",
-    )
-    parser.add_argument(
-        "--ks", type=float, default=KS_FIT, metavar="N/M",
-        help=f"stick stiffness K_s of M1, M2 and bouc-wen (default {KS_FIT:g} N/m, the paper's)",
+        "--ks", type=float, default=None, metavar="N/M",
+        help=f"reference bridge: stick stiffness K_s of M1, M2 and bouc-wen (default {KS_FIT:g} N/m, the paper's)",
     )
     parser.add_argument("--modes", type=int, default=20, metavar="N", help="modes to compute (default 20)")
     parser.add_argument("--json", action="store_true", help="print a JSON object instead of a table")
     parser.add_argument(
-        "--plot", metavar="DIR", help="write the Table 2 modes' shapes and their AutoMAC to DIR (PNG and SVG)"
+        "--plot", metavar="DIR",
+        help="write the Table 2 modes' shapes and their AutoMAC to DIR (PNG and SVG); with --structure, the shapes "
+        "of the first 12 modes and their AutoMAC"
     )
     parser.set_defaults(func=run)
 
 
-def modal_data(model: str = "M0", ks: float | None = None, n_modes: int = 20) -> tuple[dict, object]:
-    """The ``--json`` object and the modal result."""
+def _reference_options(model: str | None, ks: float | None, options: dict | None) -> dict:
+    """The reference bridge's options from --model, --ks and --option (the same one given twice: an error)."""
+    from bearingfw.structures import StructureError
+
+    options = dict(options or {})
+    for flag, key, value in (("--model", "preset", model), ("--ks", "ks", ks)):
+        if value is not None:
+            if key in options:
+                raise StructureError(f"{flag} and --option {key}=... both give the {key}: give one")
+            options[key] = value
+    return options
+
+
+def modal_data(
+    model: str | None = "M0", ks: float | None = None, n_modes: int = 20, options: dict | None = None
+) -> tuple[dict, object]:
+    """The ``--json`` object and the modal result of the reference bridge (``options``: those of
+    :func:`bearingfw.structures.reference_parameters`, besides ``model`` and ``ks``)."""
     from bearingfw.analysis import solve_modal
-    from bearingfw.bridges import DEFAULT_KS, PRESETS, BridgeParameters, reference_bridge
+    from bearingfw.bridges import PRESETS, reference_bridge
     from bearingfw.bridges.paper import MODES, TABLE2_FE
     from bearingfw.bridges.study import deck_observation
+    from bearingfw.structures import reference_parameters
     from bearingfw.tuning import observed_modes
 
-    ks = DEFAULT_KS if ks is None else ks
-    if model not in PRESETS:
-        raise ParameterError(f"--model must be one of {', '.join(PRESETS)}, got {model!r}")
+    given = _reference_options(model, ks, options)
+    if given.get("preset", "M0") not in PRESETS:
+        raise ParameterError(f"--model must be one of {', '.join(PRESETS)}, got {given['preset']!r}")
+    model, ks, friction, params = reference_parameters(given)
     if not (isinstance(n_modes, int) and n_modes >= 1):
         raise ParameterError(f"--modes must be an integer >= 1, got {n_modes!r}")
-    params = BridgeParameters()
-    modal = solve_modal(reference_bridge(model, ks=ks, params=params), n_modes)
+    modal = solve_modal(reference_bridge(model, ks=ks, params=params, friction=friction), n_modes)
     seen = observed_modes(modal, deck_observation(params))
     deck_label = {m: lab for lab, m in seen.numbered.items()}
     paper = {mode: seen.numbered[mode] for mode in MODES if mode in seen.numbered}
@@ -68,6 +95,8 @@ def modal_data(model: str = "M0", ks: float | None = None, n_modes: int = 20) ->
             }
         )
     data = {
+        "structure": "reference",
+        "options": {k: v for k, v in given.items() if k not in ("preset", "ks")},
         "model": model,
         "ks": ks if model in ("M1", "M2", "bouc-wen") else None,
         "modes": modes,
@@ -79,11 +108,74 @@ def modal_data(model: str = "M0", ks: float | None = None, n_modes: int = 20) ->
     return data, modal
 
 
+def structure_modal_data(spec: str, options: dict | None = None, n_modes: int = 20, base_dir=None) -> tuple[dict, object]:
+    """The ``--json`` object and the modal result of a user's structure (:mod:`bearingfw.structures`).
+
+    Per mode: frequency, the kernel's label (the largest kinetic-energy share among vertical,
+    lateral, longitudinal, torsional, with x along the bridge and z up), the dominant component
+    (the largest share of the kinetic energy among ux .. rz) and the effective mass shares in x, y, z
+    (of all the mass; ``effective_mass`` in kg).
+    """
+    import numpy as np
+
+    from bearingfw.analysis import solve_modal
+    from bearingfw.model import COMPONENTS
+    from bearingfw.structures import build_structure
+
+    if not (isinstance(n_modes, int) and n_modes >= 1):
+        raise ParameterError(f"--modes must be an integer >= 1, got {n_modes!r}")
+    model = build_structure(spec, options or {}, base_dir=base_dir)
+    modal = solve_modal(model, n_modes)
+    energy = modal.shapes * (modal.system.M @ modal.shapes)
+    per_component = np.array([energy[k::len(COMPONENTS)].sum(axis=0) for k in range(len(COMPONENTS))])
+    per_component /= np.where(per_component.sum(axis=0) > 0, per_component.sum(axis=0), 1.0)
+    total = {d: modal.total_mass[d] for d in ("x", "y", "z")}
+    modes = []
+    for m in range(modal.n_modes):
+        modes.append(
+            {
+                "index": m + 1,
+                "frequency": float(modal.frequencies[m]),
+                "label": modal.numbered_labels[m],
+                "dominant": COMPONENTS[int(np.argmax(per_component[:, m]))],
+                "energy": {c: float(per_component[k, m]) for k, c in enumerate(COMPONENTS)},
+                "participation": {d: float(modal.effective_mass[d][m] / total[d]) if total[d] else 0.0 for d in total},
+                "effective_mass": {d: float(modal.effective_mass[d][m]) for d in total},
+            }
+        )
+    data = {
+        "structure": spec,
+        "options": dict(options or {}),
+        "model": model.name,
+        "nodes": len(model.nodes),
+        "dofs": int(modal.system.n_dof),
+        "total_mass": total,
+        "modes": modes,
+    }
+    return data, modal
+
+
+def _plot_structure(modal, data: dict, directory) -> list:
+    """Every computed mode's shape (up to 12) and their AutoMAC over all DOFs."""
+    from bearingfw.analysis import automac
+    from bearingfw.plotting import save
+    from bearingfw.tuning.plot import plot_mac, plot_mode
+
+    written = []
+    chosen = list(range(min(modal.n_modes, 12)))
+    for m in chosen:
+        written += save(plot_mode(modal, m), directory, f"mode-{m + 1}")
+    names = [f"{m + 1}: {modal.numbered_labels[m]}" for m in chosen]
+    written += save(plot_mac(automac(modal.shapes[:, chosen]), names, title=f"AutoMAC ({data['model']})"),
+                    directory, "automac")
+    return written
+
+
 def _plot(modal, data: dict, directory) -> list:
     from bearingfw.analysis import automac
-    from bearingfw.bridges import BridgeParameters
     from bearingfw.bridges.study import deck_observation
     from bearingfw.plotting import save
+    from bearingfw.structures import reference_parameters
     from bearingfw.tuning.plot import plot_mac, plot_mode
 
     written = []
@@ -92,7 +184,8 @@ def _plot(modal, data: dict, directory) -> list:
         title = f"{data['model']}: {name} (deck), mode {m + 1}, {modal.frequencies[m]:.3f} Hz"
         written += save(plot_mode(modal, m, title), directory, f"mode-{name.replace(' ', '-')}")
     if chosen:
-        dofs = deck_observation(BridgeParameters()).dofs(modal.system)
+        params = reference_parameters(data["options"])[3]
+        dofs = deck_observation(params).dofs(modal.system)
         table = automac(modal.shapes[dofs][:, [m for _, m in chosen]])
         names = [name for name, _ in chosen]
         written += save(plot_mac(table, names, title=f"AutoMAC of the Table 2 modes ({data['model']}, deck)"),
@@ -100,10 +193,36 @@ def _plot(modal, data: dict, directory) -> list:
     return written
 
 
+def _print_structure(data: dict) -> None:
+    options = ", ".join(f"{k} = {v!r}" for k, v in data["options"].items())
+    print(f"{data['model'] or 'model'} ({data['structure']}{'; ' + options if options else ''}): "
+          f"{data['nodes']} nodes, {data['dofs']} DOFs")
+    print(f"  {'mode':>4}  {'f [Hz]':>8}  {'label':<16}{'dominant':<10}{'Mx':>6}{'My':>6}{'Mz':>6}")
+    for m in data["modes"]:
+        part = m["participation"]
+        print(f"  {m['index']:>4}  {m['frequency']:8.3f}  {m['label']:<16}{m['dominant']:<10}"
+              f"{part['x']:6.0%}{part['y']:6.0%}{part['z']:6.0%}")
+    print("  (label: the largest share of the modal kinetic energy, x along the bridge and z up; dominant: the "
+          "component with the largest share; M: effective mass share of all the mass)")
+
+
 def run(args) -> int:
+    from bearingfw.structures import REFERENCE, parse_options
+
+    user = args.structure is not None and args.structure != REFERENCE
     try:
-        data, modal = modal_data(args.model, args.ks, args.modes)
-        written = _plot(modal, data, args.plot) if args.plot else []
+        options = parse_options(args.option)
+        if user:
+            if args.model is not None or args.ks is not None:
+                raise ParameterError(
+                    "--model and --ks choose the reference bridge's bearing model; your structure's function sets "
+                    "its bearings' laws (give it options with --option key=value)"
+                )
+            data, modal = structure_modal_data(args.structure, options, args.modes)
+            written = _plot_structure(modal, data, args.plot) if args.plot else []
+        else:
+            data, modal = modal_data(args.model, args.ks, args.modes, options)
+            written = _plot(modal, data, args.plot) if args.plot else []
     except (ParameterError, OSError) as exc:
         print(f"bearingfw modal: error: {exc}", file=sys.stderr)
         return 1
@@ -111,6 +230,11 @@ def run(args) -> int:
         if written:
             data["figures"] = [str(p) for p in written]
         print(json.dumps(data, indent=2))
+        return 0
+    if user:
+        _print_structure(data)
+        for path in written:
+            print(f"wrote {path}")
         return 0
     print(f"Reference bridge, bearing model {data['model']}" + (f" (K_s = {data['ks']:g} N/m)" if data["ks"] else ""))
     print(f"  {'mode':>4}  {'f [Hz]':>8}  {'label':<16}{'deck':>6}  {'deck mode':<14}{'Mx':>6}{'My':>6}{'Mz':>6}")

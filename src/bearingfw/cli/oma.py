@@ -69,7 +69,8 @@ def add_parser(subparsers) -> None:
         "and an automatic selection of the modes (present at most orders from their first, real shapes, a peak in "
         "the averaged spectrum); rejected candidates are listed with the reason. Name channels "
         "'<node>.<component>' (e.g. 'GA32.uz') so that 'bearingfw tune --measured' can pair the modes with a "
-        "model's by MAC at those DOFs. With --decay, instead the logarithmic decrement of the free decay after a "
+        "model's by MAC at those DOFs; with --structure those names are checked against the model's DOFs first. "
+        "With --decay, instead the logarithmic decrement of the free decay after a "
         "jumping test, per channel and averaged.",
     )
     parser.add_argument("file", metavar="FILE", help="multichannel acceleration file (.csv or .npz)")
@@ -158,6 +159,15 @@ def add_parser(subparsers) -> None:
         help="least prominence (a ratio) of the averaged spectrum's peak at a mode, more on short records "
         f"(default {d['min_peak']:g}; 0: no peak check)",
     )
+    from bearingfw.structures import OPTION_HELP
+
+    parser.add_argument(
+        "--structure", metavar="SPEC",
+        help="the structure the sensors were on: 'package.module:function', 'path/to/file.py:function' or "
+        "'reference' (as 'bearingfw modal --structure'); every channel analysed must then name one of its DOFs "
+        "('<node>.<component>'), checked before the identification (default: no check)",
+    )
+    parser.add_argument("--option", action="append", default=[], metavar="KEY=VALUE", help=OPTION_HELP)
     parser.add_argument("--channels", metavar="A,B,...", help="use only these channels (default all)")
     parser.add_argument("--references", metavar="A,B,...", help="reference channels of the correlations (default all)")
     parser.add_argument("--dt", type=float, default=None, metavar="S", help="time step, if the file states none")
@@ -201,6 +211,34 @@ def add_parser(subparsers) -> None:
     parser.set_defaults(func=run)
 
 
+def check_structure(args, names) -> dict | None:
+    """With ``--structure``: every channel names a DOF of the structure's model (an unknown one is an
+    error naming it and the nearest names); channels at supported DOFs, which read the ground and can
+    never pair with a mode, are warned about. None without ``--structure``."""
+    if args.structure is None:
+        if args.option:
+            raise ParameterError("--option gives options to a structure: give --structure SPEC too")
+        return None
+    from bearingfw.model import as_system
+    from bearingfw.oma import channel_dofs
+    from bearingfw.structures import build_structure, parse_options
+    from bearingfw.tuning import check_channels
+
+    options = parse_options(args.option)
+    model = build_structure(args.structure, options)
+    check_channels(model, names)
+    system = as_system(model)
+    still = system.T.getnnz(axis=1)[channel_dofs(system, names)] == 0
+    supported = [n for n, s in zip(names, still, strict=True) if s]
+    warnings = []
+    if supported:
+        warnings.append(
+            f"channel(s) {', '.join(supported)} are at supported DOFs of {model.name or 'the model'}: they read the "
+            "ground, and 'bearingfw tune' refuses shapes there (leave them out with --channels)"
+        )
+    return {"structure": {"spec": args.structure, "options": options, "model": model.name}, "warnings": warnings}
+
+
 def identify_data(args) -> tuple[dict, object, object]:
     """The ``--json`` object of an identification, the result and the channels read."""
     from bearingfw.oma import Criteria, SSISettings, identify, read_channels
@@ -209,12 +247,16 @@ def identify_data(args) -> tuple[dict, object, object]:
     wanted = _names(args.channels)
     if wanted:
         channels = channels.select(wanted)
+    checked = check_structure(args, channels.names)  # before the identification: a wrong name fails at once
     order = {} if args.order is None else {"max_order": args.order}
     settings = SSISettings(**order, block_rows=args.block_rows)
     given = {field: getattr(args, option) for option, field in CRITERIA_OPTIONS.items()}
     criteria = Criteria(**{k: v for k, v in given.items() if v is not None})
     result = identify(channels, settings, criteria, references=_names(args.references))
     data = result.to_dict()
+    if checked is not None:
+        data["structure"] = checked["structure"]
+        data["warnings"] = [*checked["warnings"], *data["warnings"]]
     if channels.metadata.get("note"):
         data["note"] = channels.metadata["note"]
     return data, result, channels
@@ -229,6 +271,7 @@ def decay_data(args) -> tuple[dict, list, object]:
     wanted = _names(args.channels)
     if wanted:
         channels = channels.select(wanted)
+    check_structure(args, channels.names)
     spec = DecayFilter(bandwidth=args.bandwidth, **({} if args.min_r2 is None else {"min_r2": args.min_r2}))
     out, fits = [], []
     for frequency in args.decay:

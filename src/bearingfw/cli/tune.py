@@ -1,4 +1,5 @@
-"""``bearingfw tune``: step 1 of the paper's tuning on the reference bridge (K_s from the measured modes).
+"""``bearingfw tune``: step 1 of the paper's tuning on the reference bridge (K_s from the measured modes),
+or the calibration of any named parameters of a user's structure (``--structure``, ``--param``).
 
 Without ``--measured`` the measured modes are the paper's (Table 2, paired by label as the deck
 sensors see them). With ``--measured FILE`` they are modes identified by ``bearingfw oma``
@@ -6,6 +7,10 @@ sensors see them). With ``--measured FILE`` they are modes identified by ``beari
 :func:`bearingfw.bridges.study.calibrate_ks_to_identified` does the work (the screening by MAC,
 the scan of K_s that starts the least squares, the sensitivities and the damping) and this
 module prints it.
+
+With ``--structure SPEC`` (and ``--option``) or ``--param``: :func:`bearingfw.tuning.fit_parameters`
+on the structure's builder, its keyword parameters ``--param NAME=LOW:HIGH[:START]`` against the
+measured-modes file of :mod:`bearingfw.tuning.measured` (the format is in :data:`EPILOG`).
 """
 
 from __future__ import annotations
@@ -16,23 +21,69 @@ import sys
 from bearingfw.parameters import ParameterError
 
 
+#: The measured-modes file, as ``bearingfw tune --help`` shows it (:mod:`bearingfw.tuning.measured`).
+EPILOG = """\
+your structure:
+  bearingfw tune --structure small_bridge.py:build --param bearing_stiffness=1e7:1e10 --measured modes.json
+  calibrates the keyword parameters --param NAME=LOW:HIGH[:START] of the structure's function (START
+  default: the function's default if within the bounds, else the middle of the range, geometric for a
+  positive one) within their bounds, searched in log(p) when LOW > 0. --option fixes other keywords.
+  Reported: the frequencies before (at START) and after with their errors, the MAC of each pair and
+  the MAC table (measured x paired computed shapes), and the sensitivities d ln f / d ln p at the optimum.
+
+the measured-modes file (--measured): the output of 'bearingfw oma --json' / --output, or TOML
+(.toml) or JSON (any other name) written by hand:
+
+  source = "ambient test, 3 May"           # optional
+  channels = ["G4.uz", "G12.uz", "G4.ux"]  # optional: the order of shapes given as arrays
+  [[modes]]
+  name = "first bending"       # optional (default: the label, else "mode <k>")
+  frequency = 2.55             # Hz, required
+  label = "vertical 1"         # optional: the k-th computed mode with that label
+  damping = 0.021              # optional damping ratio (reported)
+  shape = { "G4.uz" = 1.0, "G12.uz" = -0.98, "G4.ux" = 0.02 }   # optional: at "<node>.<component>"
+
+  Every mode with a shape (at the same channels): paired by MAC there, one-to-one, and modes whose
+  best MAC stays below --min-mac are left out and named. Otherwise every mode with a label (vertical,
+  lateral, longitudinal, torsional and k, as 'bearingfw modal --structure' labels the modes): paired
+  by label. Never by index.
+"""
+
+
 def add_parser(subparsers) -> None:
+    import argparse
+    import textwrap
+
+    from bearingfw.structures import OPTION_HELP, STRUCTURE_HELP
+
     parser = subparsers.add_parser(
         "tune",
-        help="step 1 of the paper's tuning: the stick stiffness K_s from the measured frequencies",
-        description="Step 1 of the paper's two-step tuning on the reference bridge: the SDOF estimate of the "
+        help="calibrate a model against measured modes: the paper's K_s, or any parameter of your structure",
+        # the epilog's file example keeps its lines (a raw formatter), so the description is wrapped here
+        description=textwrap.fill("Step 1 of the paper's two-step tuning on the reference bridge: the SDOF estimate of the "
         "sliding bearings' stick stiffness K_s (eq. 11, with the untuned model's lateral frequency), then a "
         "least-squares fit of K_s in the M1 model (linear springs on the sliding directions) to the measured "
         "frequencies of Table 2, modes paired by label as the deck sensors see them. Also the measured damping "
         "(logarithmic decrements, damping ratios, Rayleigh coefficients). With --measured, the measured modes are "
         "those identified by 'bearingfw oma' (frequencies and shapes at the sensor channels), paired by MAC at those "
         "DOFs; the output then adds each mode's sensitivity d ln f / d ln K_s. Step 2 is the M2 model with K_s: "
-        "'bearingfw modal --model M2 --ks K_S' or bearingfw.bridges.study.tuned_bridge(K_S).",
+        "'bearingfw modal --model M2 --ks K_S' or bearingfw.bridges.study.tuned_bridge(K_S). "
+        "With --structure and --param: any keyword parameters of your structure against a measured-modes file "
+        "(below).", width=100),
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument(
         "--measured", metavar="FILE",
         help="identified modes (JSON written by 'bearingfw oma --json' or --output) instead of the paper's Table 2; "
-        "their shapes are at channels named '<node>.<component>' of the reference bridge (e.g. 'GA32.uz')",
+        "their shapes are at channels named '<node>.<component>' of the reference bridge (e.g. 'GA32.uz'); with "
+        "--structure, a measured-modes file (below)",
+    )
+    parser.add_argument("--structure", metavar="SPEC", help=STRUCTURE_HELP)
+    parser.add_argument("--option", action="append", default=[], metavar="KEY=VALUE", help=OPTION_HELP)
+    parser.add_argument(
+        "--param", action="append", default=[], metavar="NAME=LOW:HIGH[:START]",
+        help="a keyword parameter of the structure's function to calibrate within [LOW, HIGH], repeatable",
     )
     parser.add_argument(
         "--min-mac", type=float, default=None, metavar="M",
@@ -42,6 +93,15 @@ def add_parser(subparsers) -> None:
     parser.add_argument(
         "--modes", metavar="LIST",
         help="with --measured: use only these identified modes, by number or name, comma-separated (default all)",
+    )
+    parser.add_argument(
+        "--n-modes", type=int, default=None, metavar="N",
+        help="with --structure: modes computed per trial (default 20); every measured mode must be among them",
+    )
+    parser.add_argument(
+        "--scan", type=int, default=None, metavar="N",
+        help="with --structure: values of each parameter over its bounds tried for the start of the least squares "
+        "(default 9; 0: start at START)",
     )
     parser.add_argument("--json", action="store_true", help="print a JSON object instead of a table")
     parser.set_defaults(func=run)
@@ -156,11 +216,145 @@ def _print(data: dict) -> None:
     print(f"Step 2: 'bearingfw modal --model M2 --ks {data['ks_fit']:.4g}' (regularized Coulomb, mu = 0.04)")
 
 
+def parse_param(text: str, keywords: dict | None = None) -> tuple[str, tuple[float, float, float]]:
+    """``"NAME=LOW:HIGH[:START]"`` -> ``(NAME, (START, LOW, HIGH))``.
+
+    START defaults to the builder's default for NAME (``keywords``: :func:`bearingfw.structures.builder_keywords`)
+    when it is a number within the bounds, else the middle of the range (geometric for ``LOW > 0``).
+    """
+    import difflib
+    import math
+
+    expected = f"--param {text!r}: expected NAME=LOW:HIGH or NAME=LOW:HIGH:START (numbers, e.g. k=1e7:1e10)"
+    name, eq, bounds = text.partition("=")
+    name = name.strip()
+    if not eq or not name.isidentifier():
+        raise ParameterError(expected)
+    parts = bounds.split(":")
+    if len(parts) not in (2, 3):
+        raise ParameterError(expected)
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        raise ParameterError(expected) from None
+    if not all(math.isfinite(v) for v in values):
+        raise ParameterError(f"--param {text!r}: the bounds and start must be finite")
+    low, high = values[:2]
+    if not low < high:
+        raise ParameterError(f"--param {text!r}: LOW < HIGH is needed, got LOW = {low:g}, HIGH = {high:g}")
+    if keywords is not None and name not in keywords:
+        near = difflib.get_close_matches(name, list(keywords), n=3)
+        raise ParameterError(
+            f"--param {text!r}: the structure's function has no parameter {name!r}"
+            + (f" (did you mean {', '.join(near)}?)" if near else "")
+            + f"; it takes {', '.join(keywords) or 'none'}"
+        )
+    if len(values) == 3:
+        start = values[2]
+        if not low <= start <= high:
+            raise ParameterError(f"--param {text!r}: START = {start:g} is outside [{low:g}, {high:g}]")
+    else:
+        default = None if keywords is None else keywords.get(name)
+        numeric = isinstance(default, (int, float)) and not isinstance(default, bool)
+        if numeric and low <= default <= high:
+            start = float(default)
+        else:
+            start = math.sqrt(low * high) if low > 0 else 0.5 * (low + high)
+    return name, (start, low, high)
+
+
+def structure_tune_data(
+    spec: str, options: dict, params: list[str], measured_path, select=None, *, min_mac=None, n_modes=None, scan=None,
+    base_dir=None,
+) -> dict:
+    """The ``--json`` object of ``tune --structure``: :func:`bearingfw.tuning.fit_parameters` on ``spec``'s builder."""
+    from bearingfw.structures import build_structure, builder_keywords, load_builder
+    from bearingfw.tuning import FitOptions, fit_parameters, read_measured
+
+    if not params:
+        raise ParameterError("--structure: give the parameters to calibrate, --param NAME=LOW:HIGH[:START]")
+    if not measured_path:
+        raise ParameterError("--structure: give the measured modes, --measured FILE (see 'bearingfw tune --help')")
+    keywords = builder_keywords(load_builder(spec, base_dir=base_dir))
+    variables = {}
+    for text in params:
+        name, bounds = parse_param(text, keywords)
+        if name in variables:
+            raise ParameterError(f"--param {name}: given twice")
+        if name in options:
+            raise ParameterError(f"--param {name} and --option {name}=...: a parameter is either fixed or calibrated")
+        variables[name] = bounds
+    given = {"min_mac": min_mac, "n_modes": n_modes, "scan_points": scan}
+    fit_options = FitOptions(**{k: v for k, v in given.items() if v is not None})
+    measured = read_measured(measured_path).select(select)
+    models = []
+
+    def build(values):
+        model = build_structure(spec, {**options, **values}, base_dir=base_dir)
+        if not models:
+            models.append(model.name)
+        return model
+
+    fit = fit_parameters(build, measured, variables, fit_options)
+    return {"structure": spec, "options": options, "model": models[0] if models else None,
+            "measured_file": str(measured_path), **fit.to_dict()}
+
+
+def _print_structure(data: dict) -> None:
+    options = ", ".join(f"{k} = {v!r}" for k, v in data["options"].items())
+    print(f"Calibration of {data['model'] or 'the model'} ({data['structure']}{'; ' + options if options else ''}) "
+          f"against {data['measured_file']}" + ("  [SYNTHETIC data]" if data["synthetic"] else ""))
+    if data["pairing"] == "mac":
+        print(f"  pairing: by MAC at {len(data['sensors'])} channels ({', '.join(data['sensors'])}), "
+              f"least MAC {data['min_mac']:g}")
+    else:
+        print("  pairing: by label (the labels of the whole computed modes)")
+    cal = data["calibration"]
+    for name, p in data["parameters"].items():
+        print(f"  {name}: {p['fitted']:.6g}   (start {p['start']:.4g}, scan start {p['scan_start']:.4g}, "
+              f"bounds {p['low']:.4g} .. {p['high']:.4g}, {p['scale']} scale)")
+    print(f"  least squares: {cal['evaluations']} modal analyses after a scan of {len(data['scan'])}, {cal['message']}")
+    names = list(data["parameters"])
+    head = "".join(f"{'dlnf/dln ' + n:>{max(14, len(n) + 10)}}" for n in names)
+    print(f"  {'mode':<16}{'measured':>10}{'before':>9}{'error':>8}{'after':>9}{'error':>8}{'MAC':>6}  "
+          f"{'paired with':<16}{head}")
+    for m in data["modes"]:
+        mac = "-" if m["mac_after"] is None else f"{m['mac_after']:.2f}"
+        sens = "".join(
+            f"{('-' if m['sensitivity'][n] is None else format(m['sensitivity'][n], '.4f')):>{max(14, len(n) + 10)}}"
+            for n in names
+        )
+        print(f"  {m['name']:<16}{m['measured']:10.4f}{m['before']:9.4f}{m['error_before']:8.2%}{m['after']:9.4f}"
+              f"{m['error_after']:8.2%}{mac:>6}  {m['label_after'] + ' (' + str(m['mode_after']) + ')':<16}{sens}")
+    print("  (Hz; before: at the start values; after: at the fitted ones; paired with: the computed mode's label "
+          "and number; dlnf/dln p: a frequency error e moves p by about e / that)")
+    if data["mac"] is not None:
+        print("  MAC table (measured x paired computed shapes, after):")
+        for m, row in zip(data["modes"], data["mac"], strict=True):
+            print(f"    {m['name']:<16}" + " ".join(f"{v:5.2f}" for v in row))
+    damped = {m["name"]: m["damping"] for m in data["modes"] if m["damping"] is not None}
+    if damped:
+        print("  measured damping: " + ", ".join(f"{n} {z:.2%}" for n, z in damped.items()))
+    for warning in data["warnings"]:
+        print(f"  warning: {warning}")
+
+
 def run(args) -> int:
+    from bearingfw.structures import parse_options
     from bearingfw.tuning import PairingError
 
+    generic = args.structure is not None or bool(args.param)
     try:
-        if args.measured:
+        if not generic and (args.option or args.n_modes is not None or args.scan is not None):
+            raise ParameterError("--option, --n-modes and --scan apply to --structure (with --param)")
+        if generic:
+            from bearingfw.structures import REFERENCE
+
+            data = structure_tune_data(
+                args.structure or REFERENCE, parse_options(args.option), args.param, args.measured,
+                _selection(args.modes), min_mac=args.min_mac, n_modes=args.n_modes, scan=args.scan,
+            )
+        elif args.measured:
             data = measured_tune_data(args.measured, _selection(args.modes), args.min_mac)
         else:
             if args.modes or args.min_mac is not None:
@@ -171,6 +365,8 @@ def run(args) -> int:
         return 1
     if args.json:
         print(json.dumps(data, indent=2))
+    elif generic:
+        _print_structure(data)
     else:
         (_print_measured if args.measured else _print)(data)
     return 0

@@ -2,7 +2,7 @@
 
 from importlib.metadata import PackageNotFoundError, version
 
-from bearingfw.parameters import ParameterError, dims_parameter, parameter
+from bearingfw.parameters import ParameterError, check_per_bearing, dims_parameter, parameter
 from bearingfw.plugins import BearingPreset, PresetBearing, create_law, get_registry, hookimpl
 from bearingfw.protocol import BearingLaw, LawResponse
 
@@ -18,6 +18,7 @@ __all__ = [
     "LawResponse",
     "ParameterError",
     "__version__",
+    "check_per_bearing",
     "create_law",
     "dims_parameter",
     "get_registry",

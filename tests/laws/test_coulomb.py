@@ -109,7 +109,9 @@ def test_slip_tangent_is_the_tangential_projector_scaled_by_the_return():
         ({"k": 4e8, "mu": -0.01}, r"0 <= mu < 1"),
         ({"k": float("nan"), "mu": 0.04}, r"'k' = nan is outside"),
         ({"k": float("inf"), "mu": 0.04}, r"'k' = inf is outside"),
-        ({"k": "400e6", "mu": 0.04}, r"'k' must be a real number \(k > 0\), got str"),
+        # k is a per-bearing parameter: one real number, or a 1-D array of them
+        ({"k": "400e6", "mu": 0.04}, r"'k' must be a real number or a 1-D array of real numbers \(one per bearing\) "
+                                     r"\(k > 0\), got str"),
         ({"k": True, "mu": 0.04}, r"'k' must be a real number"),
         ({"k": 4e8}, r"missing parameter\(s\) 'mu' \(0 <= mu < 1\)"),
         ({"k": 4e8, "mu": 0.04, "muu": 0.1}, r"unknown parameter\(s\) 'muu'; parameters of regularized-coulomb: k, mu, dims"),

@@ -127,3 +127,107 @@ def test_the_example_plugin_package_installs_and_passes_its_own_tests(tmp_path):
     assert laws["viscous-damper"]["distribution"] == "bearingfw-viscous-damper"
     tests = REPO / "examples" / "custom-law-plugin" / "tests"
     run_python(tmp_path, "-m", "pytest", "-q", "-p", "no:cacheprovider", str(tests))
+
+
+THROWAWAY_PRESET = '''
+import numpy as np
+from bearingfw import BearingPreset, LawResponse, hookimpl
+
+
+class TanhFriction:
+    """F = f_max tanh(k u / f_max): friction with a smooth knee. A plain class."""
+
+    name = "tanh-friction"
+    dims = 1
+    rigid = False
+
+    def __init__(self, k, f_max, dims=1):
+        self.k, self.f_max, self.dims = float(k), float(f_max), dims
+
+    def initial_state(self, n):
+        return {}
+
+    def respond(self, state, u, normal_force, dt):
+        x = self.k * np.asarray(u, dtype=float) / self.f_max
+        tangent = np.einsum("ij,jk->ijk", self.k / np.cosh(x) ** 2, np.eye(self.dims))
+        return LawResponse(self.f_max * np.tanh(x), tangent, state)
+
+
+def tanh_friction(bearing):
+    return ("tanh-friction", {"k": bearing.ks, "f_max": bearing.friction * bearing.dead_load})
+
+
+@hookimpl
+def bearingfw_register_laws():
+    return [TanhFriction]
+
+
+@hookimpl
+def bearingfw_register_presets():
+    # the second contribution is broken on purpose: it is reported, the first one loads
+    return [BearingPreset("tanh-friction", "tanh friction k = K_s up to mu N_dead", tanh_friction, needs_dead_load=True),
+            {"name": "not-a-preset"}]
+'''
+
+
+@pytest.fixture(scope="module")
+def preset_site(tmp_path_factory):
+    root = tmp_path_factory.mktemp("throwaway-preset")
+    package = root / "package"
+    (package / "tanh_friction_plugin").mkdir(parents=True)
+    (package / "tanh_friction_plugin" / "__init__.py").write_text(THROWAWAY_PRESET)
+    (package / "pyproject.toml").write_text(
+        textwrap.dedent(
+            """
+            [build-system]
+            requires = ["setuptools>=68"]
+            build-backend = "setuptools.build_meta"
+
+            [project]
+            name = "throwaway-tanh-friction"
+            version = "0.0.2"
+
+            [project.entry-points.bearingfw]
+            tanh-friction = "tanh_friction_plugin"
+
+            [tool.setuptools]
+            packages = ["tanh_friction_plugin"]
+            """
+        )
+    )
+    site = root / "site"
+    pip_install_into(site, package)
+    return site
+
+
+def test_a_pip_installed_package_contributes_a_preset_and_a_broken_one_is_reported(preset_site):
+    listing = json.loads(run_python(preset_site, "-m", "bearingfw", "plugins", "--json"))
+    presets = {p["name"]: p for p in listing["presets"]}
+    entry = presets["tanh-friction"]
+    assert (entry["distribution"], entry["plugin"], entry["needs_dead_load"]) == ("throwaway-tanh-friction", "tanh-friction", True)
+    assert entry["description"] == "tanh friction k = K_s up to mu N_dead"
+    assert {"M0", "M1", "M2", "fixed"} <= set(presets)
+    assert [(b["plugin"], b["distribution"]) for b in listing["broken"]] == [("tanh-friction", "throwaway-tanh-friction")]
+    assert "must return bearingfw.BearingPreset objects, got {'name': 'not-a-preset'}" in listing["broken"][0]["error"]
+
+
+def test_the_reference_bridge_runs_a_third_party_preset(preset_site):
+    from bearingfw.bridges import DEFAULT_KS, dead_load_normal_forces
+
+    script = """
+import json
+from bearingfw.bridges import PRESETS, reference_bridge
+from bearingfw.model import ConnectorKind, as_system
+model = reference_bridge("tanh-friction", friction=0.05)
+as_system(model)  # the laws are built from the registry
+laws = {c.name: [c.law, c.params] for c in model.connectors if c.kind is not ConnectorKind.JOIN}
+print(json.dumps({"description": PRESETS["tanh-friction"], "laws": laws}))
+"""
+    out = json.loads(run_python(preset_site, "-c", script))
+    assert out["description"] == "tanh friction k = K_s up to mu N_dead"
+    dead_load = dead_load_normal_forces()
+    assert len(out["laws"]) == 11
+    for bearing, (law, params) in out["laws"].items():
+        assert law == "tanh-friction"
+        assert params["k"] == DEFAULT_KS
+        assert params["f_max"] == pytest.approx(0.05 * dead_load[bearing], rel=1e-12)

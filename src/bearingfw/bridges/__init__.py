@@ -1,7 +1,8 @@
 """The paper's reference bridge: a five-span RC arch bridge on pot bearings, as a bearingfw model.
 
-``reference_bridge(preset, ks, params)`` builds it with one of the paper's bearing models
-(:data:`PRESETS`: ``M0``, ``M1``, ``M2``, ``fixed``, ``bouc-wen``). The geometry and every
+``reference_bridge(preset, ks, params)`` builds it with a bearing preset: one of the paper's
+bearing models (``M0``, ``M1``, ``M2``, ``fixed``), ``bouc-wen`` from the bearingfw-boucwen
+package, or any preset a plugin registers (:data:`PRESETS`, ``bearingfw plugins``). The geometry and every
 assumption the paper does not state are the fields of :class:`BridgeParameters`; the numbers
 the paper states are in :mod:`bearingfw.bridges.paper`; the bearing layout in
 :mod:`bearingfw.bridges.layout`. The paper's tuning study on this bridge (step 1, step 2,
@@ -32,6 +33,8 @@ from bearingfw.bridges.presets import (
     Preset,
     bearing_laws,
     dead_load_normal_forces,
+    find_preset,
+    preset_laws,
     reference_bridge,
 )
 from bearingfw.bridges.reference import (
@@ -66,7 +69,9 @@ __all__ = [
     "bridge_model",
     "dead_load_normal_forces",
     "deck_nodes",
+    "find_preset",
     "grid",
     "paper",
+    "preset_laws",
     "reference_bridge",
 ]

@@ -1,43 +1,32 @@
-"""The paper's bearing models as named presets, and the reference bridge built with one.
+"""The reference bridge built with a bearing preset, and a preset's laws on any set of bearings.
 
-A preset says how the *sliding directions* of the sliding bearings are modelled (the fixed
-bearing 4A is JOIN in every preset; the tied directions of the guided bearings stay tied):
+A preset (:class:`bearingfw.BearingPreset`) says how the *sliding directions* of the sliding
+bearings are modelled; the fixed bearing 4A is JOIN in every preset and the tied directions of
+the guided bearings stay tied. Presets are contributed by plugins through the hook
+``bearingfw_register_presets``, so this module owns none: bearingfw registers M0, M1, M2 and
+fixed (:mod:`bearingfw.laws.presets`), the bearingfw-boucwen package ``bouc-wen``
+(:mod:`bearingfw_boucwen.plugin`), and a law package may add its own. ``bearingfw plugins`` lists
+the installed ones; :data:`PRESETS` is a read-only ``name -> description`` view of them.
 
-=========  ====================  =============================================================
-name       law                   sliding directions
-=========  ====================  =============================================================
-M0         frictionless          free sliding: the paper's untuned model
-M1         linear-spring         ``k = K_s``: step 1 of the tuning (modal tuning)
-M2         regularized-coulomb   ``k = K_s``, ``mu = 0.04``: step 2, for time histories
-fixed      (JOIN)                every bearing fixed (section 3.3's alternative)
-bouc-wen   bouc-wen              ``k = K_s``, ``alpha = 0``, ``A = 1``, ``beta = gamma = 0.5``,
-                                 ``n = boucwen_exponent`` (default 2), ``uy = mu N_dead / K_s``
-                                 per bearing
-=========  ====================  =============================================================
+Wherever a preset is named, a :class:`~bearingfw.BearingPreset` object may be given instead
+(one that is not registered, e.g. ``bouc_wen_preset(exponent=4.0)`` of the Bouc-Wen package).
 
-Bouc-Wen as friction. With ``alpha = 0`` and ``A = 1`` the force is ``k uy z`` with ``|z| <= 1``
-(``beta + gamma = 1``), so the stiffness is ``K_s`` at first and the force saturates at
-``k uy = mu N_dead``: the friction force at dead load, reached smoothly (the larger ``n``, the
-sharper the knee; ``beta = gamma`` unloads along the initial stiffness, like the stick branch).
-Unlike M2 it does not follow the normal force in time: ``N_dead`` is each bearing's dead-load
-normal force, computed once by a gravity analysis of the M1 model (same initial stiffness).
+Each sliding bearing's law comes from ``preset.law(PresetBearing(name, ks, friction, dead_load))``:
+the stick stiffness K_s (N/m), the friction coefficient mu and, for a preset that declares
+``needs_dead_load``, the bearing's compressive normal force under the dead load (N), computed
+once per bridge by a gravity analysis of the M1 model (linear springs K_s, the same initial
+stiffness as a stick branch).
 
-The exponent. ``n = 2`` (:attr:`BridgeParameters.boucwen_exponent`'s default) is Park, Wen & Ang's
-biaxial exponent, the one the bearingfw-boucwen plugin integrates exactly, in closed form: a
-time history costs about twice M2's (3 s of the synthetic tremor at D_II: about 1 s CPU, against
-about 40 s with ``n = 4``, which needs backward-Euler substeps). From rest the force reaches
-76 % of ``mu N_dead`` at ``u = uy`` (0.05 to 0.25 mm here), 96 % at ``2 uy`` and
-99.5 % at ``3 uy`` (``tanh``); ``n = 4`` is sharper (86 %, 99.7 %, 100 %). On that record the
-peak force of every bearing differs by less than 3 % between the two exponents, the histories
-by up to 15 % of a bearing's peak (the shape of the knee). Set ``boucwen_exponent`` for another
-smoothness.
+Laws whose class declares ``per_bearing`` (linear-spring, regularized-coulomb, ...) are given
+to the kernel as one law object for all the bearings that share the law and ``dims``, with
+arrays where their parameters differ; the presets only name each bearing's law and parameters.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
-
-import attrs
+import math
+import numbers
+from collections.abc import Iterable, Iterator, Mapping
 
 from bearingfw.analysis import gravity
 from bearingfw.bridges.layout import BEARINGS
@@ -46,8 +35,18 @@ from bearingfw.bridges.parameters import BridgeParameters
 from bearingfw.bridges.reference import bridge_model
 from bearingfw.model import ConnectorKind, Model, ModelError
 from bearingfw.parameters import ParameterError
+from bearingfw.plugins import BearingPreset, PresetBearing, Registry, UnknownPresetError, get_registry
 
-__all__ = ["DEFAULT_KS", "PRESETS", "Preset", "bearing_laws", "dead_load_normal_forces", "reference_bridge"]
+__all__ = [
+    "DEFAULT_KS",
+    "PRESETS",
+    "Preset",
+    "bearing_laws",
+    "dead_load_normal_forces",
+    "find_preset",
+    "preset_laws",
+    "reference_bridge",
+]
 
 #: The stick stiffness K_s (N/m) of the presets that use one, unless given: the paper's
 #: least-squares value (section 3.3, 400 MN/m), so that the experiments run the paper's bearing
@@ -57,48 +56,96 @@ DEFAULT_KS = KS_FIT
 
 LawSpec = tuple[str, dict] | None
 
-
-@attrs.frozen
-class Preset:
-    """A bearing model: ``law(ks, mu, N_dead, params)`` gives a sliding bearing's law and parameters."""
-
-    name: str
-    description: str
-    law: Callable[[float, float, float, BridgeParameters], LawSpec]
-    needs_dead_load: bool = False
+#: The former name of a preset's class (presets are plugin contributions now).
+Preset = BearingPreset
 
 
-def _bouc_wen(ks: float, mu: float, normal: float, p: BridgeParameters) -> LawSpec:
-    if not normal > 0:
-        raise ModelError(f"bouc-wen preset: a sliding bearing carries N = {normal:g} N at dead load; it needs N > 0")
-    # saturation force (1 - alpha) k uy z_max = k uy = mu N_dead (z_max = 1 for A = beta + gamma = 1)
-    return ("bouc-wen", {"k": ks, "alpha": 0.0, "uy": mu * normal / ks, "A": 1.0, "beta": 0.5, "gamma": 0.5,
-                         "n": p.boucwen_exponent})
+def find_preset(preset: str | BearingPreset, registry: Registry | None = None) -> BearingPreset:
+    """The preset called ``preset`` in ``registry`` (default: the installed plugins), or ``preset``
+    itself when it is a :class:`~bearingfw.BearingPreset`. An unknown name is a
+    :class:`ParameterError` naming the known presets."""
+    if isinstance(preset, BearingPreset):
+        return preset
+    registry = registry or get_registry()
+    if not isinstance(preset, str):
+        raise ParameterError(
+            f"preset must be a preset name ({', '.join(registry.presets)}) or a bearingfw.BearingPreset, got {preset!r}"
+        )
+    try:
+        return registry.preset(preset)
+    except UnknownPresetError as exc:
+        raise ParameterError(str(exc)) from None
 
 
-PRESETS: dict[str, Preset] = {
-    p.name: p
-    for p in (
-        Preset("M0", "frictionless sliding (untuned)", lambda ks, mu, n, p: ("frictionless", {})),
-        Preset("M1", "linear springs k = K_s (step 1)", lambda ks, mu, n, p: ("linear-spring", {"k": ks})),
-        Preset(
-            "M2", "regularized Coulomb k = K_s, mu (step 2)",
-            lambda ks, mu, n, p: ("regularized-coulomb", {"k": ks, "mu": mu}),
-        ),
-        Preset("fixed", "every bearing fixed (JOIN)", lambda ks, mu, n, p: None),
-        Preset("bouc-wen", "Bouc-Wen k = K_s saturating at mu N_dead", _bouc_wen, needs_dead_load=True),
-    )
-}
+def _real(value) -> bool:
+    return isinstance(value, numbers.Real) and not isinstance(value, bool) and math.isfinite(value)
 
 
-def _check(preset: str, ks: float, friction: float) -> Preset:
-    if preset not in PRESETS:
-        raise ParameterError(f"reference_bridge: preset must be one of {', '.join(PRESETS)}, got {preset!r}")
-    if not (isinstance(ks, (int, float)) and ks > 0):
-        raise ParameterError(f"reference_bridge: ks = {ks!r} must be > 0 N/m")
-    if not (isinstance(friction, (int, float)) and 0 <= friction < 1):
+def _check_stiffness_and_friction(ks, friction) -> None:
+    if not (_real(ks) and ks > 0):
+        raise ParameterError(f"reference_bridge: ks = {ks!r} must be a finite number > 0 N/m")
+    if not (_real(friction) and 0 <= friction < 1):
         raise ParameterError(f"reference_bridge: friction = {friction!r} must be in 0 <= friction < 1")
-    return PRESETS[preset]
+
+
+def _law_of(preset: BearingPreset, bearing: PresetBearing) -> LawSpec:
+    """``preset.law(bearing)``, checked: a broken preset is a clear error naming it and the bearing."""
+    try:
+        spec = preset.law(bearing)
+    except ParameterError:  # the preset's own message about the bearing (ModelError included)
+        raise
+    except Exception as exc:  # a third party's preset may raise anything
+        raise ModelError(f"preset {preset.name!r} failed on bearing {bearing.name!r}: {exc!r}") from exc
+    if spec is None:
+        return None
+    if not (isinstance(spec, tuple) and len(spec) == 2 and isinstance(spec[0], str) and isinstance(spec[1], Mapping)):
+        raise ModelError(
+            f"preset {preset.name!r} gave {spec!r} for bearing {bearing.name!r}; a preset's law must return "
+            "(law name, parameters dict) or None (fixed)"
+        )
+    return (spec[0], dict(spec[1]))
+
+
+def preset_laws(
+    preset: str | BearingPreset,
+    bearings: Iterable[str],
+    *,
+    ks: float = DEFAULT_KS,
+    friction: float = FRICTION,
+    normal_forces: Mapping[str, float] | None = None,
+    registry: Registry | None = None,
+) -> dict[str, LawSpec]:
+    """Law and parameters of each of ``bearings`` under ``preset`` (None: fixed), on any structure.
+
+    ``normal_forces`` (N, compressive, per bearing) is required by a preset that declares
+    ``needs_dead_load`` and ignored by the others.
+    """
+    chosen = find_preset(preset, registry)
+    _check_stiffness_and_friction(ks, friction)
+    bearings = list(bearings)
+    if chosen.needs_dead_load:
+        if normal_forces is None:
+            raise ParameterError(f"preset {chosen.name!r} needs each bearing's dead-load normal force (normal_forces)")
+        missing = [b for b in bearings if b not in normal_forces]
+        if missing:
+            raise ParameterError(f"preset {chosen.name!r}: no dead-load normal force for bearing(s) {', '.join(missing)}")
+    laws = {}
+    for name in bearings:
+        dead_load = float(normal_forces[name]) if chosen.needs_dead_load else None
+        laws[name] = _law_of(chosen, PresetBearing(name, float(ks), float(friction), dead_load))
+    return laws
+
+
+def _check_exponent(params: BridgeParameters) -> None:
+    # BridgeParameters.boucwen_exponent is no longer read (the exponent is the Bouc-Wen preset's:
+    # bearingfw_boucwen.plugin.bouc_wen_preset(exponent)). Refuse a value other than the default
+    # rather than ignore it silently, until the field is removed.
+    exponent = getattr(params, "boucwen_exponent", 2.0)
+    if exponent != 2.0:
+        raise ParameterError(
+            f"BridgeParameters.boucwen_exponent = {exponent:g} is no longer used: pass "
+            f"preset=bearingfw_boucwen.plugin.bouc_wen_preset(exponent={exponent:g}) instead"
+        )
 
 
 def dead_load_normal_forces(params: BridgeParameters = BridgeParameters(), ks: float = DEFAULT_KS) -> dict[str, float]:
@@ -109,35 +156,62 @@ def dead_load_normal_forces(params: BridgeParameters = BridgeParameters(), ks: f
 
 
 def bearing_laws(
-    preset: str = "M0",
+    preset: str | BearingPreset = "M0",
     ks: float = DEFAULT_KS,
     params: BridgeParameters = BridgeParameters(),
     friction: float = FRICTION,
     normal_forces: Mapping[str, float] | None = None,
+    *,
+    registry: Registry | None = None,
 ) -> dict[str, LawSpec]:
-    """Law and parameters of every bearing under ``preset`` (``None``: fixed)."""
-    chosen = _check(preset, ks, friction)
+    """Law and parameters of every bearing of the reference bridge under ``preset`` (``None``: fixed)."""
+    chosen = find_preset(preset, registry)
+    _check_stiffness_and_friction(ks, friction)
+    _check_exponent(params)
+    sliding = [name for name, spec in BEARINGS.items() if spec.kind is not ConnectorKind.JOIN]
     if chosen.needs_dead_load and normal_forces is None:
         normal_forces = dead_load_normal_forces(params, ks)
-    laws = {}
-    for name, spec in BEARINGS.items():
-        if spec.kind is ConnectorKind.JOIN:
-            laws[name] = None
-        else:
-            laws[name] = chosen.law(float(ks), float(friction), (normal_forces or {}).get(name, 0.0), params)
-    return laws
+    governed = preset_laws(chosen, sliding, ks=ks, friction=friction, normal_forces=normal_forces)
+    return {name: governed.get(name) for name in BEARINGS}
 
 
 def reference_bridge(
-    preset: str = "M0",
+    preset: str | BearingPreset = "M0",
     ks: float = DEFAULT_KS,
     params: BridgeParameters = BridgeParameters(),
     friction: float = FRICTION,
+    *,
+    registry: Registry | None = None,
 ) -> Model:
     """The paper's reference bridge with the bearing model ``preset`` (module docstring).
 
-    ``ks`` is the stick stiffness K_s (N/m) of M1, M2 and bouc-wen; ``friction`` the
-    coefficient of M2 and bouc-wen (the paper's 0.04).
+    ``preset`` is a registered preset's name (``bearingfw plugins``) or a
+    :class:`~bearingfw.BearingPreset`; ``ks`` is the stick stiffness K_s (N/m) and ``friction``
+    the friction coefficient that the preset's law may use (M1: ``ks``; M2 and bouc-wen: both).
     """
-    laws = bearing_laws(preset, ks, params, friction)
-    return bridge_model(params, laws, name=f"reference bridge ({preset})")
+    chosen = find_preset(preset, registry)
+    laws = bearing_laws(chosen, ks, params, friction)
+    return bridge_model(params, laws, name=f"reference bridge ({chosen.name})")
+
+
+class _PresetView(Mapping):
+    """Read-only ``name -> description`` of the presets of the installed plugins, in registry order."""
+
+    def _presets(self) -> dict:
+        return get_registry().presets
+
+    def __getitem__(self, name: str) -> str:
+        return self._presets()[name].value.description
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(list(self._presets()))
+
+    def __len__(self) -> int:
+        return len(self._presets())
+
+    def __repr__(self) -> str:
+        return f"PRESETS({dict(self)!r})"
+
+
+#: The installed presets, ``name -> description`` (read-only; the registry is the source).
+PRESETS: Mapping[str, str] = _PresetView()

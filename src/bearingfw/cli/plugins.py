@@ -5,15 +5,26 @@ from __future__ import annotations
 import json
 
 from bearingfw.plugins import describe_parameters, get_registry
+from bearingfw.protocol import OPTIONAL_FLAGS, law_flag
+
+#: How the table names the protocol flags (the JSON uses the attribute names).
+FLAG_LABELS = {
+    "uses_velocity": "velocity",
+    "normal_coupling": "normal coupling",
+    "per_bearing": "per-bearing",
+    "friction": "friction",
+    "rate_dependent": "rate-dependent",
+}
 
 
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "plugins",
         help="list the loaded plugins and what they register",
-        description="List every registered bearing law (with its parameters), record reader and "
-        "intensity scale, the plugin and the distribution it came from, and every plugin that "
-        "failed to load with its error.",
+        description="List every registered bearing law (with its parameters, their ranges and units, and "
+        "the protocol flags it declares), bearing preset, record reader, intensity scale, metric family "
+        "and executor, the plugin and the distribution it came from, and every plugin that failed to "
+        "load with its error.",
     )
     parser.add_argument("--json", action="store_true", help="print a JSON object instead of tables")
     parser.set_defaults(func=run)
@@ -33,13 +44,27 @@ def _describe(entries: dict, details) -> list[dict]:
     ]
 
 
+def _law_details(cls) -> dict:
+    return {
+        "class": f"{cls.__module__}.{cls.__qualname__}",
+        "flags": {flag: law_flag(cls, flag) for flag in OPTIONAL_FLAGS},
+        "parameters": describe_parameters(cls),
+    }
+
+
+def _description(item) -> dict:
+    description = getattr(item, "description", "")
+    return {"description": description if isinstance(description, str) else ""}
+
+
 def listing() -> dict:
     """The registry as plain data (the ``--json`` output)."""
     registry = get_registry()
     return {
-        "laws": _describe(
-            registry.laws,
-            lambda cls: {"class": f"{cls.__module__}.{cls.__qualname__}", "parameters": describe_parameters(cls)},
+        "laws": _describe(registry.laws, _law_details),
+        "presets": _describe(
+            registry.presets,
+            lambda preset: {"description": preset.description, "needs_dead_load": preset.needs_dead_load},
         ),
         "record_readers": _describe(
             registry.record_readers,
@@ -52,6 +77,8 @@ def listing() -> dict:
             registry.intensity_scales,
             lambda scale: {k: v for k, v in scale.to_dict().items() if k != "name"},
         ),
+        "metrics": _describe(registry.metrics, _description),
+        "executors": _describe(registry.executors, _description),
         "broken": [{"plugin": b.plugin, "distribution": b.distribution, "error": b.error} for b in registry.broken],
     }
 
@@ -65,20 +92,30 @@ def _format_parameter(p: dict) -> str:
     return text
 
 
-def _print_table(title: str, headers: tuple[str, str], items: list[dict], last_column) -> None:
-    """Name, distribution and plugin columns aligned; the last column free text."""
+def _format_flags(flags: dict) -> str:
+    return ", ".join(FLAG_LABELS[flag] for flag in OPTIONAL_FLAGS if flags.get(flag)) or "-"
+
+
+def _print_table(title: str, kind: str, items: list[dict], columns: list[tuple[str, object]]) -> None:
+    """Name (headed ``kind``), distribution, plugin and ``columns`` (header, item -> text) aligned; the last
+    column free text."""
     print(title)
-    rows = [
-        (item["name"], f"{item['distribution'] or '?'} {item['version'] or ''}".strip(), item["plugin"], last_column(item))
-        for item in items
-    ]
-    if not rows:
+    if not items:
         print("  (none)")
         return
-    head = (headers[0], "distribution", "plugin", headers[1])
-    widths = [max(len(r[i]) for r in [head, *rows]) for i in range(3)]
+    head = (kind, "distribution", "plugin", *(header for header, _ in columns))
+    rows = [
+        (item["name"], f"{item['distribution'] or '?'} {item['version'] or ''}".strip(), item["plugin"],
+         *(text(item) for _, text in columns))
+        for item in items
+    ]
+    widths = [max(len(r[i]) for r in [head, *rows]) for i in range(len(head) - 1)]
     for row in [head, *rows]:
-        print("  " + "  ".join(cell.ljust(w) for cell, w in zip(row[:3], widths)) + "  " + row[3])
+        print("  " + "  ".join(cell.ljust(w) for cell, w in zip(row[:-1], widths)) + "  " + row[-1])
+
+
+def _with_description(item: dict) -> str:
+    return item.get("description") or "-"
 
 
 def run(args) -> int:
@@ -86,13 +123,23 @@ def run(args) -> int:
     if args.json:
         print(json.dumps(data, indent=2, default=str))
         return 0
-    _print_table("Bearing laws:", ("law", "parameters"), data["laws"],
-                 lambda law: "; ".join(_format_parameter(p) for p in law["parameters"]) or "-")
+    _print_table("Bearing laws:", "law", data["laws"], [
+        ("flags", lambda law: _format_flags(law["flags"])),
+        ("parameters", lambda law: "; ".join(_format_parameter(p) for p in law["parameters"]) or "-"),
+    ])
     print()
-    _print_table("Record readers:", ("reader", "files"), data["record_readers"],
-                 lambda r: " ".join(r["suffixes"]) + (f"  {r['description']}" if r["description"] else ""))
+    _print_table("Bearing presets:", "preset", data["presets"], [
+        ("description", lambda p: p["description"] + (" (uses the dead load)" if p["needs_dead_load"] else "")),
+    ])
     print()
-    _print_table("Intensity scales:", ("scale", "degrees"), data["intensity_scales"], lambda s: " ".join(s["degrees"]))
+    _print_table("Record readers:", "reader", data["record_readers"],
+                 [("files", lambda r: " ".join(r["suffixes"]) + (f"  {r['description']}" if r["description"] else ""))])
+    print()
+    _print_table("Intensity scales:", "scale", data["intensity_scales"], [("degrees", lambda s: " ".join(s["degrees"]))])
+    print()
+    _print_table("Metric families:", "metric", data["metrics"], [("description", _with_description)])
+    print()
+    _print_table("Executors:", "executor", data["executors"], [("description", _with_description)])
     if data["broken"]:
         print("\nBroken plugins (not loaded):")
         for b in data["broken"]:

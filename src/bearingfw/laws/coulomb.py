@@ -9,6 +9,17 @@ Integration is a backward-Euler return mapping, which has a closed form because 
 circle (a pair of points in 1-D): the trial force ``k (u - u_p,n)`` is scaled back onto the
 circle. The tangent is the derivative of that map, ``k`` in stick and
 ``k (mu N / |F_trial|) (I - n n^T)`` in slip (zero in 1-D), so Newton converges quadratically.
+
+Where there is no capacity (``mu = 0``, or ``N <= 0``: tension, lift-off) the force is
+identically zero, so force and tangent are zero even at ``u = u_p``, where the trial force
+vanishes and the map would otherwise count as stick.
+
+Normal-force coupling: ``d F / d N`` at fixed ``u`` is ``mu n`` in slip (``n`` the slip
+direction; ``mu sgn`` in 1-D) and zero in stick or without contact.
+
+Per-bearing parameters: ``k`` and ``mu`` may be arrays of one value per connector; the arithmetic
+is written so that a scalar gives the same bits as before (``np.asarray(p)[..., None]``
+broadcasts a scalar as a length-1 axis and an array as a column).
 """
 
 from __future__ import annotations
@@ -18,7 +29,7 @@ from typing import ClassVar
 import attrs
 import numpy as np
 
-from bearingfw.parameters import dims_parameter, parameter
+from bearingfw.parameters import check_per_bearing, dims_parameter, parameter
 from bearingfw.protocol import LawResponse
 
 
@@ -32,11 +43,15 @@ class RegularizedCoulomb:
 
     name: ClassVar[str] = "regularized-coulomb"
     rigid: ClassVar[bool] = False
-    k: float = parameter(low=0.0, low_open=True, unit="N/m", doc="stick stiffness (K_s)", typical=4e8)
-    mu: float = parameter(low=0.0, high=1.0, high_open=True, doc="friction coefficient", typical=0.04)
+    per_bearing: ClassVar[bool] = True
+    friction: ClassVar[bool] = True
+    normal_coupling: ClassVar[bool] = True
+    k: float = parameter(low=0.0, low_open=True, unit="N/m", doc="stick stiffness (K_s)", typical=4e8, per_bearing=True)
+    mu: float = parameter(low=0.0, high=1.0, high_open=True, doc="friction coefficient", typical=0.04, per_bearing=True)
     dims: int = dims_parameter()
 
     def initial_state(self, n: int) -> dict:
+        check_per_bearing(self, n)
         return {"slip": np.zeros((n, self.dims))}
 
     def force_bound(self, normal_force) -> np.ndarray:
@@ -47,16 +62,23 @@ class RegularizedCoulomb:
 
     def respond(self, state, u, normal_force, dt) -> LawResponse:
         u = np.asarray(u, dtype=float)
+        check_per_bearing(self, u.shape[0])
+        k = np.asarray(self.k, dtype=float)[..., None]  # (1,) or (n, 1): broadcasts over (n, dims)
+        mu = np.asarray(self.mu, dtype=float)[..., None]
         slip = state["slip"]
         capacity = self.force_bound(normal_force)
-        trial = self.k * (u - slip)
+        trial = k * (u - slip)
         trial_norm = np.sqrt(np.einsum("ij,ij->i", trial, trial))
-        sliding = trial_norm > capacity
-        safe_norm = np.where(sliding, trial_norm, 1.0)
+        # No capacity: the force is identically zero, also at trial = 0 (which is not stick).
+        sliding = (trial_norm > capacity) | (capacity <= 0.0)
+        safe_norm = np.where(sliding & (trial_norm > 0.0), trial_norm, 1.0)
         scale = np.where(sliding, capacity / safe_norm, 1.0)
         force = trial * scale[:, None]
-        new_slip = np.where(sliding[:, None], u - force / self.k, slip)
+        new_slip = np.where(sliding[:, None], u - force / k, slip)
         direction = trial / safe_norm[:, None]
         projector = np.eye(self.dims) - sliding[:, None, None] * np.einsum("ij,ik->ijk", direction, direction)
-        tangent = self.k * scale[:, None, None] * projector
-        return LawResponse(force, tangent, {"slip": new_slip})
+        tangent = k[..., None] * scale[:, None, None] * projector
+        # F = mu N n on the slip surface; zero in stick and without contact (N <= 0).
+        in_contact = sliding & (np.asarray(normal_force, dtype=float) > 0.0)
+        dforce_dnormal = np.where(in_contact[:, None], mu * direction, 0.0)
+        return LawResponse(force, tangent, {"slip": new_slip}, dforce_dnormal=dforce_dnormal)

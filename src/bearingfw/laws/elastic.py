@@ -7,7 +7,7 @@ from typing import ClassVar
 import attrs
 import numpy as np
 
-from bearingfw.parameters import dims_parameter, parameter
+from bearingfw.parameters import check_per_bearing, dims_parameter, parameter
 from bearingfw.protocol import LawResponse
 
 
@@ -17,6 +17,7 @@ class Frictionless:
 
     name: ClassVar[str] = "frictionless"
     rigid: ClassVar[bool] = False
+    friction: ClassVar[bool] = True  # trivially: it never resists, in contact or not
     dims: int = dims_parameter()
 
     def initial_state(self, n: int) -> dict:
@@ -44,17 +45,22 @@ class Fixed:
 
 @attrs.frozen
 class LinearSpring:
-    """F = k u in every governed direction (the paper's M1, k = K_s)."""
+    """F = k u in every governed direction (the paper's M1, k = K_s); ``k`` may be one value per connector."""
 
     name: ClassVar[str] = "linear-spring"
     rigid: ClassVar[bool] = False
-    k: float = parameter(low=0.0, low_open=True, unit="N/m", doc="spring stiffness", typical=4e8)
+    per_bearing: ClassVar[bool] = True
+    k: float = parameter(low=0.0, low_open=True, unit="N/m", doc="spring stiffness", typical=4e8, per_bearing=True)
     dims: int = dims_parameter()
 
     def initial_state(self, n: int) -> dict:
+        check_per_bearing(self, n)
         return {}
 
     def respond(self, state, u, normal_force, dt) -> LawResponse:
         u = np.asarray(u, dtype=float)
-        tangent = np.broadcast_to(self.k * np.eye(self.dims), (u.shape[0], self.dims, self.dims))
-        return LawResponse(self.k * u, tangent.copy(), state)
+        n = u.shape[0]
+        check_per_bearing(self, n)
+        k = np.asarray(self.k, dtype=float)[..., None]  # (1,) or (n, 1): broadcasts over (n, dims)
+        tangent = np.broadcast_to(k[..., None] * np.eye(self.dims), (n, self.dims, self.dims))
+        return LawResponse(k * u, tangent.copy(), state)

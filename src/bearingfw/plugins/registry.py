@@ -289,7 +289,8 @@ def get_registry(reload: bool = False) -> Registry:
 
 
 def describe_parameters(cls: type) -> list[dict[str, Any]]:
-    """The parameters of a law class: name, required, default, allowed range, unit, doc.
+    """The parameters of a law class: name, required, default, allowed range, unit, doc, and
+    ``per_bearing`` (the field takes one value per connector too, see :mod:`bearingfw.protocol`).
 
     attrs fields made with :func:`bearingfw.parameter` carry range, unit and doc; for any other
     class the constructor signature gives names and defaults.
@@ -313,6 +314,7 @@ def describe_parameters(cls: type) -> list[dict[str, Any]]:
                 "range": meta.get("range", "").format(name=p.name),
                 "unit": meta.get("unit", ""),
                 "doc": meta.get("doc", ""),
+                "per_bearing": bool(meta.get("per_bearing", False)),
             }
         )
     return described

@@ -1,38 +1,41 @@
 """A linear viscous damper as a bearingfw law: the smallest complete law plugin.
 
-F = c v with the velocity of the step, v = (u - u_committed) / dt (backward Euler), so the
-consistent tangent is c / dt. The law is a plain class: bearingfw needs no base class, only the
-five protocol members. Its state is the committed displacement.
+F = c v, with v the relative velocity the time integrator gives the law at the trial point
+(``uses_velocity``). The force does not depend on the displacement at fixed velocity, so
+``tangent`` is zero and the velocity derivative ``dforce_dvelocity = c I`` goes to the kernel,
+which scales it by the integrator's dv/du. The law is a plain attrs class: bearingfw needs no base
+class, only the five protocol members; ``bearingfw.parameter`` gives ``c`` its range and unit
+(``bearingfw plugins`` lists them) and lets it be one value per connector (``per_bearing``).
 """
 
-import math
+from typing import ClassVar
 
+import attrs
 import numpy as np
 
 import bearingfw
 
 
+@attrs.frozen
 class ViscousDamper:
-    name = "viscous-damper"  # the registry key
-    rigid = False
-
-    def __init__(self, c: float, dims: int = 1):
-        # bearingfw turns these errors into messages that also name the law.
-        if isinstance(c, bool) or not isinstance(c, (int, float)) or not math.isfinite(c) or c <= 0:
-            raise ValueError(f"parameter 'c' (damping coefficient, N s/m) must be a finite number > 0, got {c!r}")
-        if dims not in (1, 2):
-            raise ValueError(f"parameter 'dims' must be 1 or 2, got {dims!r}")
-        self.c, self.dims = float(c), dims
+    name: ClassVar[str] = "viscous-damper"  # the registry key
+    rigid: ClassVar[bool] = False
+    uses_velocity: ClassVar[bool] = True  # respond(..., velocity=v) from the integrator
+    rate_dependent: ClassVar[bool] = True  # its force depends on the rate (implied by uses_velocity)
+    per_bearing: ClassVar[bool] = True  # c may be an array, one value per connector
+    c: float = bearingfw.parameter(low=0.0, low_open=True, unit="N s/m", doc="damping coefficient", per_bearing=True)
+    dims: int = bearingfw.dims_parameter()
 
     def initial_state(self, n: int) -> dict:
-        return {"u": np.zeros((n, self.dims))}
+        return {}  # no history: the force depends on the velocity alone
 
-    def respond(self, state, u, normal_force, dt) -> bearingfw.LawResponse:
-        u = np.asarray(u, dtype=float)
-        force = self.c * (u - state["u"]) / dt
-        tangent = np.broadcast_to(self.c / dt * np.eye(self.dims), (len(u), self.dims, self.dims)).copy()
-        # A new state object: respond must never change the one it was given.
-        return bearingfw.LawResponse(force, tangent, {"u": u.copy()})
+    def respond(self, state, u, normal_force, dt, velocity=None) -> bearingfw.LawResponse:
+        n = len(u)
+        bearingfw.check_per_bearing(self, n)
+        v = np.zeros((n, self.dims)) if velocity is None else np.asarray(velocity, dtype=float)
+        c = np.asarray(self.c, dtype=float)[..., None]  # scalar -> (1,), array -> (n, 1)
+        dforce_dvelocity = np.broadcast_to(c[..., None] * np.eye(self.dims), (n, self.dims, self.dims)).copy()
+        return bearingfw.LawResponse(c * v, np.zeros((n, self.dims, self.dims)), state, dforce_dvelocity=dforce_dvelocity)
 
 
 @bearingfw.hookimpl

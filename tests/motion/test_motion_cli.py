@@ -185,3 +185,65 @@ def test_plugins_lists_readers_and_scales(capsys):
     assert scale["degrees"] == ["0", "I", "II", "III", "IV"]
     code, out, _ = run(capsys, "plugins")
     assert "Record readers:" in out and "peer-at2" in out and "usb-pga-h10" in out
+
+
+def test_record_info_prints_the_response_spectrum_table(capsys):
+    from bearingfw.cli.record import SPECTRUM_PERIODS
+    from bearingfw.motion import read_record, response_spectrum
+    from bearingfw.motion.metrics import SUMMARY_PERIODS
+
+    assert SPECTRUM_PERIODS == SUMMARY_PERIODS  # the documented table and the summary's --json periods
+    code, out, _ = run(capsys, "record", "info", *map(str, CHUETSU))
+    assert code == 0
+    lines = out.splitlines()
+    start = lines.index("Response spectrum: pseudo-spectral acceleration [m/s^2], 5% damping")
+    assert lines[start + 1].split() == ["T", "[s]", "EW", "NS", "UD", "horizontal", "(geometric", "mean)"]
+    rows = [line.split() for line in lines[start + 2: start + 2 + len(SPECTRUM_PERIODS)]]
+    record = read_record(CHUETSU)
+    psa = [response_spectrum(c, record.dt, SPECTRUM_PERIODS).psa for c in record.components]
+    for i, (row, period) in enumerate(zip(rows, SPECTRUM_PERIODS)):
+        assert float(row[0]) == period
+        assert [float(x) for x in row[1:4]] == pytest.approx([p[i] for p in psa], rel=5e-4)  # 4 digits printed
+        assert float(row[4]) == pytest.approx(np.sqrt(psa[0][i] * psa[1][i]), rel=5e-4)
+
+
+def test_record_info_period_and_target(capsys):
+    from bearingfw.motion import read_record, response_spectrum
+
+    record = read_record(CHUETSU)
+    sa = [response_spectrum(c, record.dt, [0.5, 1.0]).psa for c in record.horizontal]
+    code, out, _ = run(capsys, "record", "info", *map(str, CHUETSU), "--period", "0.5", "--period", "1", "--json")
+    data = json.loads(out)
+    assert code == 0 and data["sa"]["periods"] == [0.5, 1.0]
+    assert data["sa"]["psa"]["h1"] == pytest.approx(sa[0], rel=1e-12)
+    assert data["sa"]["horizontal"] == pytest.approx(np.sqrt(sa[0] * sa[1]), rel=1e-12)
+    # Scaled to Sa(0.5 s) = 2 m/s^2: the factor is 2 / the geometric mean, and Sa then reads 2.
+    code, out, _ = run(capsys, "record", "info", *map(str, CHUETSU), "--target", "sa=2@0.5", "--period", "0.5", "--json")
+    data = json.loads(out)
+    assert data["scale_factor"] == pytest.approx(2.0 / np.sqrt(sa[0][0] * sa[1][0]), rel=1e-12)
+    assert data["sa"]["horizontal"][0] == pytest.approx(2.0, rel=1e-12) and data["target"] == "sa=2@0.5s"
+    code, out, _ = run(capsys, "record", "info", *map(str, CHUETSU), "--period", "0.5")
+    assert f"Sa(T = 0.5 s, 5%) = {np.sqrt(sa[0][0] * sa[1][0]):.4g} m/s^2 (horizontals' geometric mean)" in out
+    code, out, _ = run(capsys, "record", "info", *map(str, CHUETSU), "--target", "as-recorded", "--json")
+    assert code == 0 and json.loads(out)["scale_factor"] == 1.0
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["--period", "0"], "--period 0.0: the period must be a finite number of seconds > 0"),
+        (["--target", "sa=2@T1"], "T1 is a structure's first mode; give the period in s"),
+        (["--target", "sa=2"], "Sa needs a period"),
+        (["--target", "D_II", "--level", "D_II"], "give either --level or --target"),
+    ],
+)
+def test_record_info_spectrum_option_errors(capsys, argv, message):
+    code, _, err = run(capsys, "record", "info", "--synthetic", "1", *argv)
+    assert code == 1 and message in err, err
+
+
+def test_record_info_plot_marks_the_periods(capsys, tmp_path):
+    code, out, _ = run(capsys, "record", "info", "--x", str(CHUETSU[0]), "--period", "0.5", "--plot", str(tmp_path))
+    assert code == 0
+    svg = next(tmp_path.glob("*_spectrum.svg")).read_text()
+    assert "horizontal (geometric mean)" in svg and "Sa(0.5 s) = " in svg

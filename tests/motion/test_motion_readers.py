@@ -616,3 +616,84 @@ def test_one_suffix_check_for_readers_and_the_registry(suffixes):
     if not isinstance(suffixes, str):  # RecordReader takes one ending as a string, for convenience
         with pytest.raises(ParameterError, match=r"record reader 'r': 'suffixes' must be a tuple"):
             RecordReader(name="r", suffixes=suffixes, read=print)
+
+
+# -- bounds on dt, samples and duration; directories; peaks lost by resampling (issue 15) ------
+
+
+def header_variant(tmp_path, old, new, name="variant.AT2"):
+    """A copy of the real Chuetsu EW file with one piece of its 4th header line replaced."""
+    raw = CHUETSU[0].read_bytes()
+    assert old in raw
+    path = tmp_path / name
+    path.write_bytes(raw.replace(old, new, 1))
+    return path
+
+
+@pytest.mark.parametrize(
+    "old, new, message",
+    [
+        (b"DT=   .0100", b"DT= 1.0E+10", "line 4: the time step 1e+10 s (DT) is outside the allowed range 1e-06 s <= dt <= 1 s"),
+        (b"DT=   .0100", b"DT= 100.0", "line 4: the time step 100 s (DT) is outside the allowed range"),
+        (b"DT=   .0100", b"DT= 1.0E-09", "line 4: the time step 1e-09 s (DT) is outside the allowed range"),
+        (b"NPTS=   6000", b"NPTS= 1000000000", "line 4: 1000000000 samples is outside the allowed range 2 <= samples <= 100000000"),
+    ],
+)
+def test_at2_header_bounds(tmp_path, old, new, message):
+    path = header_variant(tmp_path, old, new)
+    with pytest.raises(RecordFormatError, match=re.escape(f"{path}, {message}")):
+        read_at2(path)
+
+
+def test_record_duration_bound(tmp_path):
+    from bearingfw.motion.readers import MAX_DURATION
+
+    path = tmp_path / "long.csv"
+    path.write_text("# units: g\n# dt: 1.0\n" + "0.1\n" * (int(MAX_DURATION) + 2))
+    with pytest.raises(RecordFormatError, match=re.escape(f"{path}, line 2: {int(MAX_DURATION) + 2} samples at dt = 1 s last")):
+        read_record(path)
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("# units: g\n# dt: 1e300\n0.1\n0.2\n", "line 2: the time step 1e+300 s (the '# dt' comment) is outside the allowed range"),
+        ("t, a [g]\n0, 0.1\n2, 0.2\n4, 0.1\n", "line 3: the time step 2 s (the time column 't') is outside the allowed range"),
+    ],
+)
+def test_column_file_dt_bounds(tmp_path, text, message):
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    with pytest.raises(RecordFormatError, match=re.escape(f"{path}, {message}")):
+        read_record([path, path, path])
+
+
+def test_npz_dt_bound_and_dt_option_bound(tmp_path):
+    path = tmp_path / "r.npz"
+    np.savez(path, h1=np.ones(10), h2=np.ones(10), v=np.ones(10), dt=np.float64(5.0), units=np.str_("g"))
+    with pytest.raises(RecordFormatError, match=re.escape(f"{path}: the time step 5 s (array 'dt') is outside")):
+        read_record(path)
+    columns = tmp_path / "cols.txt"
+    columns.write_text("1 2 3\n4 5 6\n")
+    with pytest.raises(RecordFormatError, match=re.escape(f"{columns}: the time step 2 s (dt) is outside")):
+        read_record(columns, dt=2.0, units="g")
+
+
+def test_a_directory_is_named_as_one(tmp_path):
+    with pytest.raises(RecordFormatError, match=re.escape(f"{tmp_path}: is a directory, not a record file")):
+        read_record([tmp_path])
+
+
+def test_peak_lost_by_resampling_is_exposed():
+    # The Manjil vertical (5.28 m/s^2 peak, 0.02 s) resampled to 0.5 s keeps a small part of its peak.
+    record = read_record(MANJIL)
+    coarse = record.resampled(0.5)
+    ratios = coarse.peak_ratios
+    assert all(r is not None for r in ratios) and coarse.min_peak_ratio == min(ratios)
+    v_before = max(map(abs, at2_values(MANJIL[2]))) * G
+    assert ratios[2] == pytest.approx(np.max(np.abs(coarse.v)) / v_before, rel=1e-12)
+    assert coarse.min_peak_ratio < 0.2
+    assert any("(ratio " in note and note.startswith("V resampled from dt = 0.02 s to 0.5 s") for note in coarse.notes)
+    assert record.peak_ratios == (None, None, None) and record.min_peak_ratio == 1.0
+    finer = record.resampled(0.005)  # refining keeps the peaks (band-limited interpolation: at least as high)
+    assert finer.min_peak_ratio >= 0.99

@@ -4,7 +4,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
-__all__ = ["IntensityMismatchError", "RecordFormatError", "UnknownReaderError", "UnknownScaleError"]
+__all__ = [
+    "IntensityMismatchError",
+    "RecordFormatError",
+    "UnknownReaderError",
+    "UnknownScaleError",
+    "VerticalComponentError",
+]
 
 
 class RecordFormatError(ValueError):
@@ -41,3 +47,14 @@ class UnknownScaleError(_NameError):
 
 class IntensityMismatchError(ValueError):
     """A record scaled to an intensity level falls outside that level's degree."""
+
+
+class VerticalComponentError(RecordFormatError):
+    """A component that looks vertical is mapped to a horizontal axis (x or y) without
+    ``vertical_as_horizontal``. ``axis`` is the axis, ``evidence`` the reasons
+    (:class:`bearingfw.motion.vertical.Evidence`)."""
+
+    def __init__(self, path: str | Path, axis: str, evidence, message: str):
+        self.axis = axis
+        self.evidence = tuple(evidence)
+        super().__init__(path, None, message)

@@ -37,6 +37,7 @@ __all__ = [
     "LEVEL_NAMES",
     "IntensityLevels",
     "IntensityScale",
+    "checked_level",
     "get_scale",
     "level_degree",
     "level_name",
@@ -204,10 +205,18 @@ def scale_to_level(
     Raises :class:`IntensityMismatchError` if the scaled record's degree on ``scale`` is not the
     level's degree (t_Ha, which scaling does not change, can move a degree's boundaries).
     """
+    name = level_name(level)
+    return checked_level(record, scale_to_pga_h10(record, levels[name]), name, levels[name], scale)
+
+
+def checked_level(record: Record, scaled: Record, level: Any, target: float, scale: IntensityScale | None = None) -> Record:
+    """``scaled`` (``record`` scaled to PGA_H10 = ``target``, the value of ``level``) with ``level``,
+    ``degree`` and ``scale`` in its metadata, if its degree on ``scale`` is the level's degree;
+    else :class:`IntensityMismatchError` naming the degree's bounds at the record's t_Ha. The
+    degree is judged at ``target`` itself, not at the scaled record's PGA_H10 (equal up to
+    rounding), so that a level on a degree's bound stays in that degree."""
     scale = scale or DEFAULT_SCALE
     name = level_name(level)
-    target = levels[name]
-    scaled = scale_to_pga_h10(record, target)
     duration = record_t_ha(scaled)
     degree = scale.degree(target, duration)
     wanted = level_degree(name)

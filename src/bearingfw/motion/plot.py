@@ -24,6 +24,7 @@ from bearingfw.motion.metrics import (
     response_spectrum,
 )
 from bearingfw.motion.record import Record
+from bearingfw.motion.scaling import horizontal_spectrum
 from bearingfw.plotting import FORMATS, new_figure, save, synthetic_title
 from bearingfw.plugins.contracts import IntensityScale
 
@@ -75,13 +76,25 @@ def plot_fourier(record: Record, fmax: float | None = None) -> Figure:
     return figure
 
 
-def plot_response_spectrum(record: Record, damping: float = DEFAULT_DAMPING, periods=None) -> Figure:
-    """Pseudo-spectral acceleration (m/s^2) of the three components against the period (s)."""
+def plot_response_spectrum(record: Record, damping: float = DEFAULT_DAMPING, periods=None, marks=()) -> Figure:
+    """Pseudo-spectral acceleration (m/s^2) of the three components and of the horizontals (their
+    geometric mean, what an Sa(T) target scales) against the period (s); ``marks``: periods (s)
+    to mark with their horizontal Sa."""
     figure = _figure(4.5)
     ax = figure.subplots()
     periods = np.geomspace(max(0.02, 2.0 * record.dt), 5.0, 120) if periods is None else np.asarray(periods, dtype=float)
     for name, values, colour in zip(record.names, record.components, ("tab:blue", "tab:orange", "tab:green")):
         ax.plot(periods, response_spectrum(values, record.dt, periods, damping).psa, lw=1.0, color=colour, label=name)
+    if np.any(record.h1) or np.any(record.h2):
+        ax.plot(periods, horizontal_spectrum(record, periods, damping), lw=1.6, ls="--", color="k",
+                label="horizontal (geometric mean)")
+        marks = np.asarray(marks, dtype=float)
+        if marks.size:
+            sa = horizontal_spectrum(record, marks, damping)
+            ax.plot(marks, sa, "o", color="tab:red", ms=5)
+            for T, value in zip(marks, sa):
+                ax.annotate(f"Sa({T:g} s) = {value:.3g} m/s²", (T, value), textcoords="offset points", xytext=(6, 6),
+                            fontsize=8)
     ax.set_xscale("log")
     ax.set_xlabel("period T [s]")
     ax.set_ylabel("pseudo-spectral acceleration [m/s²]")
@@ -151,11 +164,12 @@ def write_figures(
     scale: IntensityScale = DEFAULT_SCALE,
     stem: str | None = None,
     formats: Sequence[str] = FORMATS,
+    marks: Sequence[float] = (),
 ) -> list[Path]:
     """Write the four figures of ``record`` into ``directory`` in each format; return the paths.
 
     Files: ``<stem>_acceleration``, ``<stem>_fourier``, ``<stem>_intensity``, ``<stem>_spectrum``
-    (``.png``, ``.svg``).
+    (``.png``, ``.svg``). ``marks``: periods (s) marked on the response spectrum.
     """
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
@@ -165,6 +179,6 @@ def write_figures(
         "acceleration": plot_accelerations(record),
         "fourier": plot_fourier(record),
         "intensity": plot_intensity_chart([point], scale, record=record),
-        "spectrum": plot_response_spectrum(record),
+        "spectrum": plot_response_spectrum(record, marks=marks),
     }
     return [path for kind, figure in figures.items() for path in save(figure, directory, f"{stem}_{kind}", formats)]

@@ -23,7 +23,9 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from bearingfw.motion.errors import RecordFormatError, UnknownReaderError
+from bearingfw.motion.metrics import dominant_frequency, peak
 from bearingfw.motion.record import ROLES, G, Record, Trace, assemble, normalize_units
+from bearingfw.motion.vertical import Evidence, amplitude_evidence, label_evidence, name_evidence
 from bearingfw.parameters import ParameterError
 from bearingfw.plugins.contracts import RecordReader
 
@@ -31,18 +33,31 @@ __all__ = [
     "AT2_READER",
     "COLUMNS_READER",
     "NPZ_READER",
+    "DT_RANGE",
+    "MAX_DURATION",
+    "MAX_SAMPLES",
     "STEP_RTOL",
     "find_reader",
     "read_at2",
     "read_columns",
+    "read_file",
     "read_npz",
     "read_record",
+    "vertical_evidence",
 ]
 
 #: Relative tolerance of time steps: each step of a time column or array may differ from the
 #: mean step by this fraction (times are printed with few digits), and two statements of the
 #: time step (file header, time column, ``--dt``) must agree to it.
 STEP_RTOL = 1e-3
+
+#: Allowed time step of a record (s): a header saying ``DT= 1.0E+10`` is a typo, not a record,
+#: and would exhaust the memory of the response spectrum and the resampling.
+DT_RANGE = (1e-6, 1.0)
+#: Most samples a record may have (100 million: 11.6 days at 100 Hz).
+MAX_SAMPLES = 100_000_000
+#: Longest record (s): a day, ambient vibration included.
+MAX_DURATION = 86_400.0
 
 
 # -- text and numbers -------------------------------------------------------------------------
@@ -110,7 +125,26 @@ def _checked_units(units: str, path: Path, line: int | None, what: str) -> str:
 def _checked_dt(dt: float, path: Path, line: int | None, what: str, location: str | None = None) -> float:
     if not math.isfinite(dt) or dt <= 0:
         raise RecordFormatError(path, line, f"{what} = {dt!r} s; the time step must be > 0", location)
+    if not DT_RANGE[0] <= dt <= DT_RANGE[1]:
+        raise RecordFormatError(
+            path, line,
+            f"the time step {dt:g} s ({what}) is outside the allowed range {DT_RANGE[0]:g} s <= dt <= {DT_RANGE[1]:g} s",
+            location,
+        )
     return dt
+
+
+def _check_extent(path: Path, n: int, dt: float, line: int | None, location: str | None = None) -> None:
+    """Refuse a record too long to be meant: more than MAX_SAMPLES samples or MAX_DURATION s."""
+    if n > MAX_SAMPLES:
+        raise RecordFormatError(path, line, f"{n} samples is outside the allowed range 2 <= samples <= {MAX_SAMPLES}", location)
+    duration = (n - 1) * dt
+    if duration > MAX_DURATION:
+        raise RecordFormatError(
+            path, line, f"{n} samples at dt = {dt:g} s last {duration:.4g} s, outside the allowed range duration <= "
+            f"{MAX_DURATION:g} s",
+            location,
+        )
 
 
 class _Stated(NamedTuple):
@@ -240,6 +274,7 @@ def read_at2(path: str | Path, *, dt: float | None = None, units: str | None = N
     npts = int(npts_value)
     header_dt = _checked_dt(_number(match["dt"], path, 4), path, 4, "DT")
     file_dt = _resolve_dt(path, [_Stated(header_dt, "the header (DT)", 4)], dt, "")
+    _check_extent(path, npts, file_dt, 4)
     stated_units = _at2_units(lines[2])
     file_units = _resolve_units(
         path,
@@ -369,11 +404,14 @@ def read_columns(path: str | Path, *, dt: float | None = None, units: str | None
             raise RecordFormatError(path, rows[0][0], "only a time column, no acceleration columns")
     if "dt" in comments:
         comment = comments["dt"]
-        value = _checked_dt(_number(comment.value, path, comment.line), path, comment.line, "dt")
+        value = _checked_dt(_number(comment.value, path, comment.line), path, comment.line, comment.what)
         stated_dt.append(comment._replace(value=value))
     file_dt = _resolve_dt(
         path, stated_dt, dt, "no time column and no dt: give dt (--dt) or a '# dt: <s>' comment", line=rows[0][0]
     )
+    where = stated_dt[0].line if stated_dt else None
+    _checked_dt(file_dt, path, where, stated_dt[0].what if stated_dt else "dt")
+    _check_extent(path, data.shape[0], file_dt, where)
 
     file_units = []
     for name in names:
@@ -538,6 +576,9 @@ def read_npz(path: str | Path, *, dt: float | None = None, units: str | None = N
             raise RecordFormatError(path, None, problem, f"{where}, index {bad}")
         stated_dt.append(_Stated(step, where))
     file_dt = _resolve_dt(path, stated_dt, dt, "no 'dt' or 'time' array and no dt given (--dt)")
+    where = stated_dt[0].what if stated_dt else None
+    _checked_dt(file_dt, path, None, "dt", where)
+    _check_extent(path, max(values.size for _, values in series), file_dt, None, where)
 
     stated_units = None if "units" not in arrays else _Stated(_npz_scalar(arrays, "units", path, "text"), "array 'units'")
     file_units = _resolve_units(
@@ -683,15 +724,11 @@ def read_record(
     traces: list[Trace] = []
     used = []
     counts = []
+    per_file = []
     for path in paths:
-        if not path.is_file():
-            raise RecordFormatError(path, None, "no such file")
-        reader = find_reader(path, format, registry)
-        found = list(reader.read(path, dt=dt, units=units))
-        for trace in found:
-            if not isinstance(trace, Trace):
-                raise TypeError(f"record reader {reader.name!r} returned {trace!r} for {path}, not bearingfw.motion.Trace")
+        reader, found = read_file(path, format=format, dt=dt, units=units, registry=registry)
         traces.extend(found)
+        per_file.extend([(path, len(found))] * len(found))
         used.append(reader.name)
         counts.append(f"{path.name}: {len(found)}")
     if len(traces) != 3:
@@ -703,10 +740,58 @@ def read_record(
     stored_source = next((t.metadata["source"] for t in traces if "source" in t.metadata), None)
     source = stored_source or ", ".join(p.name for p in paths)
     stored = next((t.metadata["record"] for t in traces if "record" in t.metadata), {})  # an archive bearingfw wrote
-    return assemble(
-        traces,
-        source=source,
-        synthetic=synthetic,
-        metadata={**stored, "files": [str(p) for p in paths], "readers": used, "g": G},
-    )
+    # The roles are fixed by the order here, so a vertical-looking horizontal is only noted: a
+    # directional mapping (load_directional) refuses it.
+    notes = list(stored.get("notes", ()))
+    for role, trace, (path, count) in zip(("horizontal 1", "horizontal 2"), traces, per_file):
+        others = [t for t in traces if t is not trace]
+        evidence = vertical_evidence(trace, path, count, others)
+        note = f"{path.name} is given as {role} but looks vertical: " + "; ".join(e.reason for e in evidence)
+        if evidence and note not in notes:  # an archive bearingfw wrote keeps its notes
+            notes.append(note)
+    meta = {**stored, "files": [str(p) for p in paths], "readers": used, "g": G}
+    if notes:
+        meta["notes"] = notes
+    return assemble(traces, source=source, synthetic=synthetic, metadata=meta)
+
+
+def read_file(
+    path: str | Path, *, format: str | None = None, dt: float | None = None, units: str | None = None, registry=None
+) -> tuple[Any, list[Trace]]:
+    """The reader chosen for one file and the traces it read (at least one)."""
+    path = Path(path)
+    if path.is_dir():
+        raise RecordFormatError(path, None, "is a directory, not a record file")
+    if not path.is_file():
+        raise RecordFormatError(path, None, "no such file")
+    reader = find_reader(path, format, registry)
+    found = list(reader.read(path, dt=dt, units=units))
+    for trace in found:
+        if not isinstance(trace, Trace):
+            raise TypeError(f"record reader {reader.name!r} returned {trace!r} for {path}, not bearingfw.motion.Trace")
+    if not found:
+        raise RecordFormatError(path, None, f"the {reader.name} reader found no acceleration component in it")
+    return reader, found
+
+
+def _trace_frequency(trace: Trace) -> float | None:
+    values = trace.in_si()
+    return dominant_frequency(values, trace.dt) if np.any(values) and values.size >= 8 else None
+
+
+def vertical_evidence(trace: Trace, path: str | Path, count: int, others: Sequence[Trace] = ()) -> list[Evidence]:
+    """Why ``trace`` (read from ``path``, a file of ``count`` components) looks vertical: its file
+    name (one-component files only), its label (PEER header, column or array name) and its
+    amplitudes against ``others``, the other components of the event (see
+    :mod:`bearingfw.motion.vertical`). Empty if nothing says so."""
+    found = []
+    if count == 1:
+        found.append(name_evidence(path))
+    header = trace.metadata.get("header") if trace.metadata.get("format") == "peer-at2" else None
+    what = {"columns": "column name", "npz": "array name"}.get(trace.metadata.get("format"), "label")
+    found.append(label_evidence(trace.label, header=header, what=what))
+    if others:
+        compared = [(o.label or f"component {i + 1}", peak(o.in_si()), _trace_frequency(o)) for i, o in enumerate(others)]
+        found.append(amplitude_evidence(peak(trace.in_si()), _trace_frequency(trace), compared))
+    return [e for e in found if e is not None]
 

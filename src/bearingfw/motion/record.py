@@ -23,6 +23,7 @@ from scipy import signal
 from bearingfw.parameters import ParameterError, parameter
 
 __all__ = [
+    "AXIS_ROLES",
     "DEFAULT_NAMES",
     "G",
     "ROLES",
@@ -53,6 +54,9 @@ ROLES = ("h1", "h2", "v")
 
 #: Component labels when the files give none, one per role.
 DEFAULT_NAMES = ("H1", "H2", "V")
+
+#: The global axes and the role that holds each in a directional record (see :class:`Record`).
+AXIS_ROLES = {"x": "h1", "y": "h2", "z": "v"}
 
 # Punctuation around a unit in free text: "G.", "(G)", "[cm/s^2]", "g;".
 _UNIT_PUNCTUATION = " \t.,;:()[]{}'\""
@@ -141,7 +145,15 @@ class Record:
     later scale factor: band-limited resampling changes peaks), ``notes`` (sentences a printout
     should show; :attr:`notes` adds one per resampled component), ``seed`` (synthetic motion),
     ``level``/``degree``/``scale`` (after :func:`~bearingfw.motion.scale_to_level`),
-    ``files``/``readers`` (records read from files).
+    ``target`` (the :class:`~bearingfw.motion.ScaleTarget` label after
+    :func:`~bearingfw.motion.scale_record`), ``files``/``readers`` (records read from files),
+    ``directions`` and ``missing`` (records of :func:`~bearingfw.motion.load_directional`).
+
+    Directions: a record read by :func:`~bearingfw.motion.load_directional` is *directional*: its
+    roles are the global axes, ``h1`` = x, ``h2`` = y, ``v`` = z (:data:`AXIS_ROLES`);
+    ``metadata['directions']`` maps each given axis to its component (``"file.AT2"``,
+    ``"-file.csv#2"``) and ``metadata['missing']`` lists the axes given no component, whose
+    values are zero (the notes say so). Every 3-role caller works on it unchanged.
     """
 
     units: ClassVar[str] = "m/s^2"
@@ -225,17 +237,44 @@ class Record:
         return tuple(name for name, flag in zip(self.names, self.was_resampled) if flag)
 
     @property
+    def peak_ratios(self) -> tuple[float | None, float | None, float | None]:
+        """For each component (h1, h2, v): its peak after resampling over its peak before (None if
+        it was not resampled or is zero). A ratio well below 1 means the new step lost the peak
+        (a 0.5 s step cuts a 5.28 m/s^2 peak to 0.40): :attr:`min_peak_ratio` lets a caller refuse it."""
+        before = self.metadata.get("peaks_before_resampling") or [_peak(c) for c in self.components]
+        return tuple(
+            _peak(values) / p0 if flag and p0 > 0 else None
+            for flag, values, p0 in zip(self.was_resampled, self.components, before)
+        )
+
+    @property
+    def min_peak_ratio(self) -> float:
+        """The smallest of :attr:`peak_ratios` (1.0 if no component was resampled)."""
+        return min((r for r in self.peak_ratios if r is not None), default=1.0)
+
+    @property
+    def directional(self) -> bool:
+        """True for a record of :func:`~bearingfw.motion.load_directional` (roles are x, y, z)."""
+        return "directions" in self.metadata
+
+    @property
+    def missing_directions(self) -> tuple[str, ...]:
+        """The axes of a directional record that no component drives (their values are zero)."""
+        return tuple(self.metadata.get("missing", ()))
+
+    @property
     def notes(self) -> tuple[str, ...]:
         """What a printout of this record should say besides its numbers: ``metadata['notes']`` and,
-        for each resampled component, its peak after and before resampling."""
+        for each resampled component, its peak after and before resampling and their ratio."""
         notes = list(self.metadata.get("notes", ()))
         steps = self.metadata.get("resampled_from") or (self.dt,) * 3
         before = self.metadata.get("peaks_before_resampling") or [_peak(c) for c in self.components]
         for name, flag, step, values, p0 in zip(self.names, self.was_resampled, steps, self.components, before):
             if flag:
+                ratio = f" (ratio {_peak(values) / p0:.3g})" if p0 > 0 else ""
                 notes.append(
                     f"{name} resampled from dt = {step:g} s to {self.dt:g} s (band-limited interpolation): its peak "
-                    f"is {_peak(values):.4g} m/s^2 after resampling, {p0:.4g} m/s^2 before"
+                    f"is {_peak(values):.4g} m/s^2 after resampling, {p0:.4g} m/s^2 before{ratio}"
                 )
         return tuple(notes)
 

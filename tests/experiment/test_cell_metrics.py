@@ -1,4 +1,5 @@
-"""The definitions of the stress metrics and of the friction ratio, on made-up histories."""
+"""The definitions of the stress metrics and of the friction ratio (the built-in metric families), on
+made-up histories."""
 
 from __future__ import annotations
 
@@ -10,10 +11,12 @@ from tiny_experiment import EXAMPLE
 
 from bearingfw.experiment.metrics import (
     MIN_NORMAL_FRACTION,
-    _bearings,
-    _stresses,
+    CellResponse,
     friction_ratio,
+    metric_families,
 )
+
+STRESS = ("stress", "stress_dynamic", "stress_increase")
 
 
 @pytest.fixture(scope="module")
@@ -38,10 +41,14 @@ TREMOR = np.sin(2 * np.pi * 1.7 * T)[:, None] * np.array([1.0e5, 4.0e4, 6.0e4, 2
 def _stress_metrics(model, dead, tremor) -> dict:
     forces = (dead + tremor)[:, None, None, :].repeat(2, axis=2)  # (t, 1 element, 2 ends, 6)
     forces[0] = dead  # sample 0 is the dead-load state
-    metrics, histories = {}, {}
-    _stresses({"sections": forces, "sections.time": T}, model, ("G2",), histories, metrics)
-    assert set(histories) == {"stress.G2", "stress_dynamic.G2", "stress_increase.G2"}
-    return {family: metrics[f"{family}.G2"]["value"] for family in ("stress", "stress_dynamic", "stress_increase")}
+    response = CellResponse({"sections": forces, "sections.time": T}, model, ("G2",))
+    families = metric_families()
+    out = {}
+    for family in STRESS:
+        peaks = families[family].reduce(response)
+        assert set(peaks) == {"G2"} and peaks["G2"].history.shape == T.shape  # the maximum over points, per step
+        out[family] = peaks["G2"].value
+    return out
 
 
 def test_the_dynamic_stress_is_the_tremors_own_stress_state(model):
@@ -93,10 +100,11 @@ def test_the_friction_ratio_metric_and_history_of_a_bearing_that_lifts_off(model
         "bearings.displacement": np.zeros((n, len(names), 3)), "bearings.slip": np.full((n, len(names), 3), np.nan),
         "bearings.normal_force": normal, "bearings.friction_ratio": ratio,
     }
-    metrics, histories = {}, {}
-    _bearings(result, model, histories, metrics)
-    assert metrics["friction_ratio.1B"]["value"] == 0.05 and metrics["friction_ratio.1B"]["time"] == T[150]
-    assert math.isnan(metrics["friction_ratio.3B"]["value"])
-    assert metrics["friction_ratio.1A"]["value"] == 0.02
+    response = CellResponse(result, model)
+    peaks = metric_families()["friction_ratio"].reduce(response)
+    histories = response.histories()
+    assert peaks["1B"].value == 0.05 and peaks["1B"].time == T[150]
+    assert math.isnan(peaks["3B"].value)
+    assert peaks["1A"].value == 0.02
     assert np.isnan(histories["bearings.friction_ratio"][100, c1b])
     assert histories["bearings.friction_ratio"][150, c1b] == 0.05

@@ -9,12 +9,18 @@ import pytest
 from tiny_experiment import write_tiny
 
 from bearingfw.experiment import (
+    check_findings,
     collect_matrices,
+    default_experiment,
     format_tables,
     load_experiment,
     plan_cells,
 )
-from bearingfw.experiment.findings import paper_findings
+
+
+def paper_findings(matrices):
+    """The built-in study's findings that the matrix can judge."""
+    return [f for f in check_findings(default_experiment().findings, matrices) if f.holds is not None]
 
 
 def _doc(model, record, intensity, **values):
@@ -51,7 +57,7 @@ def test_ratios_and_tables():
     assert text.splitlines()[1:5] == ["  model       D_0", "  M0     1 (0.50)", "  M1            -", "  M2     2 (1.00)"]
     assert "  M2     0.04 (1.00)" in text
     assert "not.there" not in text
-    assert paper_findings(m) == []  # no D_II, no 3B stress: the paper's findings do not apply
+    assert paper_findings(m) == []  # no D_II, no 3B stress: the paper's findings cannot be judged
 
 
 def test_findings_on_a_made_up_matrix():

@@ -92,24 +92,51 @@ def test_dynamic_stresses_of_the_linear_models_scale_with_the_record(first):
         assert total["M1"]["D_II"] / total["M1"]["D_0"] < 2  # the dead load does not scale
 
 
-def test_csv_files_hold_the_matrices(first):
+def test_csv_files_hold_the_matrices_with_their_units(first):
     _, out, _ = first
     matrices = _json(out / "matrices.json")
     with open(out / "matrices" / "stress.G4.csv", newline="") as handle:
         rows = list(csv.reader(handle))
-    assert rows[0] == ["model", *LEVELS]
+    assert rows[0] == ["model", *(f"{level} [Pa]" for level in LEVELS)]  # the header carries the unit
     assert [r[0] for r in rows[1:]] == list(MODELS)
     for row in rows[1:]:
         assert [float(v) for v in row[1:]] == [matrices["stress.G4"][row[0]][i] for i in LEVELS]
     with open(out / "matrices" / "slip.1B.csv", newline="") as handle:
-        assert list(csv.reader(handle))[2] == ["M1", "", ""]  # not applicable: empty
-    assert (out / "ratios" / "stress.G4.csv").is_file()
+        slip = list(csv.reader(handle))
+    assert slip[0][1] == "D_0 [m]" and slip[2] == ["M1", "", ""]  # not applicable: empty
+    with open(out / "ratios" / "stress.G4.csv", newline="") as handle:
+        assert next(csv.reader(handle)) == ["model", "D_0 [-]", "D_II [-]"]
     with open(out / "cells.csv", newline="") as handle:
         cells = list(csv.DictReader(handle))
     row = next(r for r in cells if r["model"] == "M2" and r["intensity"] == "D_II" and r["metric"] == "stress.G4")
     assert float(row["value"]) == matrices["stress.G4"]["M2"]["D_II"] and row["unit"] == "Pa"
-    assert 0 < float(row["time"]) <= 10 and row["at"].startswith("end ") and float(row["pga_h10"]) == pytest.approx(0.46)
+    assert 0 < float(row["time [s]"]) <= 10 and row["at"].startswith("end ")
+    assert float(row["pga_h10 [m/s^2]"]) == pytest.approx(0.46) and float(row["scale_factor [-]"]) > 0
     assert len(cells) == 6 * len(matrices)
+
+
+def test_units_agree_in_the_files_the_terminal_and_the_report(first):
+    """units.json names the SI unit of every matrix; the cell files, the text tables and the report show the same
+    quantity in its display unit (Pa -> MPa, N -> kN, m -> mm)."""
+    from bearingfw.experiment import format_tables
+
+    _, out, summary = first
+    units = _json(out / "units.json")
+    matrices = _json(out / "matrices.json")
+    assert set(units["matrices.json"]) == set(matrices)
+    assert units["matrices.json"]["stress.G4"] == "Pa" and units["matrices.json"]["bearing_force.1B"] == "N"
+    assert units["matrices.json"]["slip.1B"] == "m" and units["matrices.json"]["friction_ratio.1B"] == "-"
+    assert units["matrices.json"]["deck_acceleration.y"] == "m/s^2" and units["ratios.json"] == "-"
+    assert units["modal.json"]["modes.frequency"] == "Hz" and units["records.json"]["pga_h10"] == "m/s^2"
+    cell = _json(out / "cells" / "M2" / "tremor" / "D_II.json")
+    assert {m: e["unit"] for m, e in cell["metrics"].items()} == units["matrices.json"]
+    value = matrices["bearing_force.1B"]["M2"]["D_II"]
+    text = format_tables(summary.matrices, ["bearing_force.1B"])
+    assert text.startswith("bearing_force.1B [kN]") and f"{value * 1e-3:.4g}" in text
+    report = (out / "report.md").read_text()
+    assert "### `bearing_force.1B` [kN]" in report and f"| {value * 1e-3:.4g} (" in report
+    assert "- `bearing_force` (N, peak force in the bearing's sliding directions)" in report
+    assert _json(out / "summary.json")["units"] == {"wall_time": "s", "run_time": "s"}
 
 
 def test_figures_exist_and_are_not_empty(first):
@@ -136,7 +163,7 @@ def test_report_has_every_section(first):
         assert heading in text, heading
     assert "SYNTHETIC" in text and "None." in text.split("## Failed cells")[1]
     definitions = text.split("Definitions:")[1].split("## Figures")[0]
-    assert "- `stress_dynamic`: sigma1 of the stress state of the tremor's own section forces" in definitions
+    assert "- `stress_dynamic`: sigma1 of the stress state of the ground motion's own section forces" in definitions
     assert "- `stress_increase`: sigma1(F(t)) - sigma1(F_dead)" in definitions
     assert "- `friction_ratio`: abs(F)/N only while the bearing is pressed with more than 10%" in definitions
     assert "![stress_tremor_D_II](figures/stress_tremor_D_II.png)" in text

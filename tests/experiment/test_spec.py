@@ -7,7 +7,6 @@ import tomllib
 import pytest
 from tiny_experiment import tiny_toml
 
-from bearingfw.bridges import PRESETS
 from bearingfw.experiment import (
     DEFAULT_TOML,
     SpecError,
@@ -22,7 +21,7 @@ from bearingfw.motion import LEVEL_NAMES
 def test_the_default_is_the_papers_study():
     e = default_experiment()
     assert e.model_names == ("M0", "M1", "M2", "fixed", "bouc-wen")
-    assert {m.preset for m in e.models} == set(PRESETS)
+    assert [m.preset for m in e.models] == ["M0", "M1", "M2", "fixed", "bouc-wen"]
     assert [i.name for i in e.intensity_list] == list(LEVEL_NAMES)
     assert [i.pga_h10 for i in e.intensity_list] == [0.10, 0.23, 0.46, 0.75, 1.10]
     assert e.reference_model == "M2"
@@ -41,7 +40,7 @@ def test_a_file_loads_with_paths_relative_to_it(tmp_path):
     e = load_experiment(path)
     assert e.base_dir == path.parent.resolve()
     assert e.resolve_path("a.AT2") == path.parent.resolve() / "a.AT2"
-    assert e.reference_model == "a"  # no M2: the first model
+    assert e.reference_model == "a"  # no reference given: the first model
 
 
 def _error(text: str) -> str:
@@ -68,15 +67,23 @@ BASE = 'name = "x"\n[models.M2]\npreset = "M2"\n[records.r]\nseed = 0\n'
         (BASE + "[intensities]\nlevels = 'D_0'\n",
          "intensities.levels: field 'levels' must be a list of levels among D_0"),
         (BASE + "[intensities]\nlevels = ['D_9']\n", "intensities.levels"),
-        (BASE + "[intensities]\nlevels = ['D_0']\npga_h10 = [0.1]\n", "intensities: give 'levels'"),
+        (BASE + "[intensities]\nsa = [1.0]\n", "intensities: 'sa' and 'period' go together"),
+        (BASE + "[intensities]\npga = [1.0, 1.0]\n", "intensities.pga: field 'pga' gives a value twice"),
+        (BASE + "[intensities]\nsa = [1.0]\nperiod = -1\n", "intensities.period: field 'period' must be a period"),
+        (BASE + "[intensities]\nlevels = ['D_0', 'as-recorded', 'as_recorded']\n", "names a level twice"),
         (BASE + "[intensities]\nvalues = { D_II = 0.05 }\n",
          "intensities.values: IntensityLevels: the levels must increase"),
         (BASE.replace('seed = 0', 'seed = -1'), "records.r.seed: field 'seed' must be an integer >= 0"),
-        (BASE.replace('seed = 0', 'seed = 0\nfiles = ["a", "b", "c"]'), "records.r: give either 'seed'"),
+        (BASE.replace('seed = 0', 'seed = 0\nfiles = ["a", "b", "c"]'),
+         "records.r: give one of 'seed' (synthetic tremor), 'files' or 'x'/'y'/'z' (files per direction), not seed "
+         "and files"),
+        (BASE.replace('seed = 0', 'x = "a.AT2"\ncomponents = ["h2", "h1", "v"]'), "records.r: 'components' goes with"),
+        (BASE.replace('seed = 0', 'files = ["a", "b", "c"]\nvertical_as_horizontal = true'),
+         "records.r: 'vertical_as_horizontal' goes with 'x'/'y'/'z'"),
+        (BASE.replace('seed = 0', 'x = 3'), "records.r.x: field 'x' must be a record file"),
         (BASE.replace('seed = 0', 'seed = 0\ncomponents = ["h1", "x", "v"]'),
          "records.r.components: field 'components' must be 3 entries"),
-        (BASE.replace('"M2"', '"M9"'), "models.M2.preset: field 'preset' must be one of M0, M1, M2, fixed, bouc-wen"),
-        (BASE.replace('[models.M2]\npreset = "M2"', '[models."M2.5"]\npreset = "M9"'), 'models."M2.5".preset: field'),
+        (BASE.replace('[models.M2]\npreset = "M2"', '[models."M2.5"]\npreset = 9'), 'models."M2.5".preset: field'),
         (BASE.replace('preset = "M2"', 'preset = "M2"\nparams = { k = 1.0 }'), "models.M2: 'params' go with 'law'"),
         (BASE.replace('preset = "M2"', 'law = "linear-spring"\nks = 1e8'),
          "models.M2: 'ks' and 'friction' go with 'preset'"),
@@ -86,9 +93,8 @@ BASE = 'name = "x"\n[models.M2]\npreset = "M2"\n[records.r]\nseed = 0\n'
          "damping.ratios: field 'ratios' must be two [frequency Hz, damping ratio] pairs"),
         (BASE + "[damping]\nalpha = 0.2\n", "damping: give both 'alpha' and 'beta'"),
         (BASE + "[damping]\nratios = [[1.0, 0.10], [3.0, 0.001]]\n", "damping.ratios: rayleigh_from_ratios"),
-        (BASE + "[structure]\nbuilder = 'not a function'\n",
-         "structure.builder: field 'builder' must be 'reference' or 'package.module:function'"),
-        (BASE + "[structure]\nbearings = ['1A']\n", "structure.bearings: only for user builders"),
+        (BASE + "[structure]\nbuilder = ''\n", "structure.builder: field 'builder' must be 'package.module:function'"),
+        (BASE + "[damping]\nratio = 0.02\nalpha = 0.1\nbeta = 0.0\n", "damping: give alpha and beta or ratio"),
         (BASE + "[output]\naggregate = 'median'\n",
          "output.aggregate: parameter 'aggregate' must be one of 'ec8', 'max', 'mean'"),
         (BASE + "[figures]\nintensities = ['D_V']\n", "figures.intensities: 'D_V' is not among D_0"),
@@ -131,14 +137,25 @@ def test_what_needs_the_plugins_or_the_users_code_is_checked_before_running(tmp_
     assert message.startswith("models.M2.params: linear-spring: unknown parameter(s) 'c'; parameters of linear-spring: k")
     message = checked(BASE + "[intensities]\nscale = 'no-such-scale'\n")
     assert message.startswith("intensities.scale: unknown intensity scale 'no-such-scale'; known scales: usb-pga-h10")
-    assert "structure.options.element_length: parameter 'element_length' = 99.0 is outside" in checked(
-        BASE + "[structure]\noptions = { element_length = 99.0 }\n")
-    assert "structure.options.spam: unknown key; allowed in [structure.options]: spans," in checked(
+    assert "structure.options: structure 'reference': BridgeParameters: parameter 'element_length' = 99.0 is " \
+           "outside" in checked(BASE + "[structure]\noptions = { element_length = 99.0 }\n")
+    assert "structure.options: structure 'reference': unknown option 'spam' (did you mean spans?)" in checked(
         BASE + "[structure]\noptions = { spam = 1 }\n")
-    assert "structure.builder: cannot import module 'no_such_module_xyz'" in checked(
+    assert "structure.builder: structure 'no_such_module_xyz:build': module 'no_such_module_xyz' not found" in checked(
         BASE + "[structure]\nbuilder = 'no_such_module_xyz:build'\n")
-    assert "structure.elements: the model has no element 'Z9'" in checked(BASE + "[structure]\nelements = ['Z9']\n")
-    assert "figures.bearing: the model has no connector '9Z'" in checked(BASE + "[figures]\nbearing = '9Z'\n")
+    assert "structure.builder: structure 'not a function': expected 'reference', 'package.module:function'" in checked(
+        BASE + "[structure]\nbuilder = 'not a function'\n")
+    message = checked(BASE + "[structure]\nelements = ['Z9']\n")
+    assert message.startswith("structure.elements: the model has no element 'Z9'; its frame elements with stress "
+                              "recovery points: GA0, GA1,") and "(225 in all)" in message  # what exists, not all
+    assert "figures.bearing: the model has no connector '9Z'; it has 1A, 1B, 2A" in checked(
+        BASE + "[figures]\nbearing = '9Z'\n")
+    assert "figures.elements: 'S1' is not a response element; they are none ([structure] elements)" in checked(
+        BASE + "[figures]\nelements = ['S1']\n")
+    assert "structure.bearings: the model has no connector '9Z'; it has 1A, 1B, 2A, 2B" in checked(
+        BASE + "[structure]\nbearings = ['9Z']\n")
+    assert checked(BASE.replace('"M2"', '"M9"')).startswith(
+        "models.M2.preset: unknown bearing preset 'M9'; known presets: M0, M1, M2")
     assert "output.table: 'stress.9Z': '9Z' is not recorded" in checked(BASE + "[output]\ntable = ['stress.9Z']\n")
     assert "output.table: 'strain.S1': unknown metric family 'strain'" in checked(
         BASE + "[output]\ntable = ['strain.S1']\n")
@@ -152,3 +169,21 @@ def test_the_tiny_experiment_of_these_tests_is_valid(tiny):
     assert checked.elements == ("G2", "G4") and checked.nodes == ("G2", "G6")
     assert checked.bearings == ("1A", "1B", "2B", "3A", "3B")  # every connector that is not JOIN
     assert "slow" not in e.model_names and tiny_toml().count("[models.") == 3
+
+
+def test_intensities_of_every_kind_resolve_to_scale_targets_in_order():
+    e = parse_experiment(BASE + "[intensities]\nlevels = ['D_II', 'As_Recorded']\nvalues = { D_II = 0.5 }\n"
+                                "pga_h10 = [0.1]\npga = [2]\nsa = [3.0, 4.5]\nperiod = 0.5\n")
+    assert [i.name for i in e.intensity_list] == ["D_II", "as-recorded", "PGA_H10=0.1", "pga=2", "sa=3@0.5s",
+                                                  "sa=4.5@0.5s"]
+    kinds = [(i.target.kind, i.target.value, i.target.period, i.level) for i in e.intensity_list]
+    assert kinds == [("pga_h10", 0.5, None, "D_II"), ("as-recorded", None, None, None), ("pga_h10", 0.1, None, None),
+                     ("pga", 2.0, None, None), ("sa", 3.0, 0.5, None), ("sa", 4.5, 0.5, None)]
+    assert [i.pga_h10 for i in e.intensity_list][:3] == [0.5, None, 0.1]
+    # a level keeps the digest data it always had; another kind adds its whole target
+    assert e.intensity_list[0].inputs() == {"name": "D_II", "pga_h10": 0.5, "level": "D_II"}
+    assert e.intensity_list[4].inputs()["target"] == {"kind": "sa", "value": 3.0, "period": 0.5, "label": "sa=3@0.5s",
+                                                      "level": None}
+    t1 = parse_experiment(BASE + "[intensities]\nsa = [2.0]\nperiod = 'T1'\n").intensities
+    assert t1.needs_first_period and t1.resolve()[0].target.period is None
+    assert t1.resolve(0.8)[0].target.period == 0.8 and t1.resolve(0.8)[0].name == "sa=2@T1"

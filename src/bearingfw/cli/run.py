@@ -36,6 +36,7 @@ def add_parser(subparsers) -> None:
         "  bearingfw run --print-default > my.toml        a starting point for your own experiment\n"
         "  bearingfw run my.toml --out results/my --workers 4\n"
         "  bearingfw run my.toml --executor dask --scheduler tcp://10.0.0.5:8786\n"
+        "  bearingfw run my.toml --structure bridge.py:build --option spans=3 --out results/mine\n"
         "  bearingfw run --only M2 --levels D_II --quiet --json",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -45,15 +46,26 @@ def add_parser(subparsers) -> None:
                         help="print the built-in experiment's TOML (every option, commented) and exit")
     parser.add_argument("--out", metavar="DIR",
                         help="results directory (default: bearingfw-results/<experiment name> here)")
-    parser.add_argument("--executor", choices=("serial", "processes", "dask"),
-                        help="who computes the cells: this process, local worker processes (default), or Dask "
-                        "distributed (the 'dask' extra)")
+    parser.add_argument("--executor", metavar="NAME",
+                        help="who computes the cells: serial (this process), processes (local worker processes, the "
+                        "default), dask (Dask distributed, the 'dask' extra), or a plugin's executor "
+                        "(`bearingfw plugins` lists them)")
     parser.add_argument("--workers", type=int, metavar="N",
                         help="worker processes (default: one per core; for dask without --scheduler, the local "
                         "cluster's workers)")
     parser.add_argument("--scheduler", metavar="ADDRESS",
                         help="Dask scheduler to use (implies --executor dask; default: a local cluster)")
-    parser.add_argument("--reference", metavar="MODEL", help="model the ratios divide by (default: the file's, or M2)")
+    parser.add_argument("--reference", metavar="MODEL",
+                        help="model the ratios divide by (default: the file's, or the first model)")
+    parser.add_argument("--structure", metavar="SPEC",
+                        help="your structure: 'package.module:function' or 'path/to/file.py:function' (relative to "
+                        "here), a function returning a bearingfw Model; replaces the experiment's [structure] builder "
+                        "and options. What names items of the file's structure is left out: [structure] elements, "
+                        "deck_nodes, bearings, [output] table, [figures] elements and bearing, [[findings]]")
+    parser.add_argument("--option", action="append", metavar="KEY=VALUE",
+                        help="a keyword argument of the structure's function, repeatable (added to [structure] "
+                        "options, or the only ones with --structure); VALUE is read as a TOML value (4e8, true, "
+                        "[1, 2], \"text\"), a bare word as text")
     parser.add_argument("--force", action="store_true", help="recompute every cell, finished or not")
     parser.add_argument("--take-over", action="store_true",
                         help="run even if DIR holds another experiment's results (or other files): cells with the "
@@ -68,6 +80,37 @@ def add_parser(subparsers) -> None:
     parser.set_defaults(func=run)
 
 
+def _own_structure(experiment, spec: str | None, pairs: list[str] | None) -> dict:
+    """The changes of ``--structure SPEC`` and ``--option key=value`` to the experiment."""
+    import re
+    from pathlib import Path
+
+    import attrs
+
+    from bearingfw.experiment import StructureSpec
+    from bearingfw.structures import parse_options
+
+    options = parse_options(pairs)
+    if spec is None:
+        structure = experiment.structure
+        return {"structure": attrs.evolve(structure, options={**structure.options, **options})}
+    target, _, function = spec.rpartition(":")
+    python_path = experiment.python_path
+    if target.endswith(".py"):  # a file named from here, not from the experiment file's folder
+        spec = f"{Path(target).expanduser().resolve()}:{function}"
+    else:  # a module importable from here too
+        python_path = (*python_path, str(Path.cwd()))
+    slug = re.sub(r"[^A-Za-z0-9._+-]+", "_", f"{Path(target).stem}.{function}")
+    return {
+        "name": f"{experiment.name}+{slug}",  # not the results of the file's own structure
+        "python_path": tuple(dict.fromkeys(python_path)),
+        "structure": StructureSpec(builder=spec, options=options),
+        "output": attrs.evolve(experiment.output, table=()),
+        "figures": attrs.evolve(experiment.figures, elements=None, bearing=None),
+        "findings": (),
+    }
+
+
 def _experiment(args):
     import attrs
 
@@ -75,15 +118,18 @@ def _experiment(args):
 
     experiment = load_experiment(args.experiment) if args.experiment else default_experiment()
     changes = {}
+    if args.structure is not None or args.option:
+        changes.update(_own_structure(experiment, args.structure, args.option))
     if args.reference:
         changes["reference"] = args.reference
     if args.no_figures:
-        changes["figures"] = attrs.evolve(experiment.figures, draw=False)
+        changes["figures"] = attrs.evolve(changes.get("figures", experiment.figures), draw=False)
     if changes:
         try:
             experiment = attrs.evolve(experiment, **changes)
         except ParameterError as exc:
-            raise ParameterError(f"--reference: {exc}") from None
+            given = "--reference" if args.reference else "--structure"
+            raise ParameterError(f"{given}: {exc}") from None
     return experiment
 
 
@@ -91,9 +137,12 @@ def _print_results(summary, out) -> None:
     from bearingfw.experiment import format_tables
 
     print(format_tables(summary.matrices, summary.table), file=out)
-    if summary.findings:
-        print("\nThe paper's findings (dynamic stresses; friction ratio at 3B):", file=out)
-        for f in summary.findings:
+    groups: dict = {}
+    for f in summary.findings:
+        groups.setdefault(f.group, []).append(f)
+    for group, findings in groups.items():
+        print(f"\n{group}:", file=out)
+        for f in findings:
             mark = {True: "yes", False: "NO ", None: "n/a"}[f.holds]
             print(f"  [{mark}] {f.statement}: {f.measured}", file=out)
     if summary.failed:
@@ -112,6 +161,7 @@ def run(args) -> int:
         make_executor,
         run_experiment,
     )
+    from bearingfw.experiment.structure import import_paths, registry_for
 
     if args.print_default:
         sys.stdout.write(DEFAULT_TOML)
@@ -119,7 +169,8 @@ def run(args) -> int:
     try:
         experiment = _experiment(args)
         name = args.executor or ("dask" if args.scheduler else "processes")
-        executor = make_executor(name, args.workers, args.scheduler)
+        registry = registry_for(experiment.plugins, import_paths(experiment))  # the experiment's plugins too
+        executor = make_executor(name, args.workers, args.scheduler, registry)
         progress = Progress(quiet=args.quiet)
         summary = run_experiment(
             experiment, args.out, executor, force=args.force, models=tuple(args.only or ()),

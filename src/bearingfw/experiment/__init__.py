@@ -2,23 +2,25 @@
 comparison matrices, figures, report.
 
 The top layer of bearingfw (it uses every other; nothing imports it but the CLI). An experiment
-is a TOML file (:mod:`~bearingfw.experiment.spec`; the built-in one, the paper's study, is
-:data:`~bearingfw.experiment.default.DEFAULT_TOML`). Each (model, record, intensity) *cell* is an
+is a TOML file (:mod:`~bearingfw.experiment.spec`; the built-in one is
+:data:`~bearingfw.experiment.default.DEFAULT_TOML`, a study definition held outside the engine).
+Each (model, record, intensity) *cell* is an
 independent transient analysis (:mod:`~bearingfw.experiment.cells`,
 :mod:`~bearingfw.experiment.execute`), run by an executor (:mod:`~bearingfw.experiment.executors`:
-serial, local processes, Dask) and committed atomically to the results store
+serial, local processes, Dask, or a plugin's) and committed atomically to the results store
 (:mod:`~bearingfw.experiment.store`) with a hash of its inputs, so that a rerun computes only
-what is missing or changed. From the store: matrices (:mod:`~bearingfw.experiment.matrices`),
-the paper's findings (:mod:`~bearingfw.experiment.findings`), figures
+what is missing or changed. From the store: matrices of every metric family
+(:mod:`~bearingfw.experiment.metrics`, :mod:`~bearingfw.experiment.matrices`), the experiment's
+declared findings (:mod:`~bearingfw.experiment.findings`), figures
 (:mod:`~bearingfw.experiment.figures`) and ``report.md`` (:mod:`~bearingfw.experiment.report`).
 :func:`run_experiment` does it all; ``bearingfw run`` is its command line.
 
 Example::
 
-    from bearingfw.experiment import load_experiment, run_experiment, SerialExecutor
+    from bearingfw.experiment import load_experiment, make_executor, run_experiment
 
-    summary = run_experiment(load_experiment("examples/paper-study.toml"), "results/paper",
-                             executor=SerialExecutor())
+    summary = run_experiment(load_experiment("examples/small-bridge/small-bridge.toml"), "results/small",
+                             executor=make_executor("serial"))
     summary.exit_code, summary.files["matrices.json"]
 """
 
@@ -28,14 +30,15 @@ from bearingfw.experiment.execute import CellOutcome, CellSummary, compute_cell
 from bearingfw.experiment.executors import (
     EXECUTORS,
     DaskExecutor,
+    Executor,
     ExecutorError,
     ProcessExecutor,
     SerialExecutor,
     make_executor,
 )
-from bearingfw.experiment.findings import Finding, paper_findings
+from bearingfw.experiment.findings import Finding, check_findings
 from bearingfw.experiment.matrices import Matrices, collect_matrices, format_tables
-from bearingfw.experiment.metrics import FAMILIES
+from bearingfw.experiment.metrics import CellResponse, MetricFamily, Peak, metric_families
 from bearingfw.experiment.progress import Progress
 from bearingfw.experiment.runner import (
     RunSummary,
@@ -47,6 +50,7 @@ from bearingfw.experiment.spec import (
     DampingSpec,
     Experiment,
     FigureSpec,
+    FindingSpec,
     Intensity,
     IntensitySpec,
     ModelSpec,
@@ -62,21 +66,25 @@ from bearingfw.experiment.store import Store, StoreError
 __all__ = [
     "DEFAULT_TOML",
     "EXECUTORS",
-    "FAMILIES",
     "CellJob",
     "CellOutcome",
+    "CellResponse",
     "CellSummary",
     "DampingSpec",
     "DaskExecutor",
+    "Executor",
     "ExecutorError",
     "Experiment",
     "FigureSpec",
     "Finding",
+    "FindingSpec",
     "Intensity",
     "IntensitySpec",
     "Matrices",
+    "MetricFamily",
     "ModelSpec",
     "OutputSpec",
+    "Peak",
     "ProcessExecutor",
     "Progress",
     "RecordSpec",
@@ -88,6 +96,7 @@ __all__ = [
     "StructureSpec",
     "cell_id",
     "check_experiment",
+    "check_findings",
     "collect_matrices",
     "compute_cell",
     "default_experiment",
@@ -95,7 +104,7 @@ __all__ = [
     "format_tables",
     "load_experiment",
     "make_executor",
-    "paper_findings",
+    "metric_families",
     "parse_experiment",
     "plan_cells",
     "recording",

@@ -1,7 +1,10 @@
 """The built-in metric families and executors of the experiment runner, registered through the
-``bearingfw`` entry point like any plugin.
+``bearingfw`` entry point (``builtin-experiment``) like any plugin's.
 
-(Filled in by the experiment-engine work.)
+A plugin adds its own the same way: a module with ``@hookimpl`` functions returning a list of
+:class:`~bearingfw.experiment.metrics.MetricFamily` records or of executor classes
+(:mod:`bearingfw.experiment.executors`), named by an entry point or by an experiment's
+``plugins = [...]``.
 """
 
 from bearingfw.plugins.hookspecs import hookimpl
@@ -9,9 +12,13 @@ from bearingfw.plugins.hookspecs import hookimpl
 
 @hookimpl
 def bearingfw_register_metrics():
-    return []
+    from bearingfw.experiment.metrics import BUILTIN
+
+    return list(BUILTIN)
 
 
 @hookimpl
 def bearingfw_register_executors():
-    return []
+    from bearingfw.experiment.executors import BUILTIN
+
+    return list(BUILTIN)

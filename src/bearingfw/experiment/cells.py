@@ -2,11 +2,12 @@
 
 A cell's *inputs* are what its physics depends on, as plain data: the structure (builder and its
 options, recorded elements and nodes), the bearing model, the record (the files' contents, not
-their paths; or the synthetic tremor's seed and parameters), the intensity (name, PGA_H10, the
-scale it is checked on), the integration settings, the Rayleigh coefficients, and the code
+their paths; or the synthetic tremor's seed and parameters), the intensity (its name and scale
+target: a level's PGA_H10, a PGA or Sa value with its period; the scale a level is checked on),
+the integration settings, the Rayleigh coefficients, and the code
 (:func:`bearingfw.experiment.structure.code_inputs`: bearingfw's version, the versions of the
-distributions of the laws this cell's model uses, of its record's readers and of the intensity
-scale, and the source files of the experiment's own builder and plugin modules with the modules
+distributions of the laws this cell's model uses, of its record's readers, of the intensity
+scale and of the metric families, and the source files of the experiment's own builder and plugin modules with the modules
 they import from the experiment's folders). The *digest* is the SHA-256 of their canonical JSON.
 The results store keeps a finished cell with its digest: a rerun skips it while the digest is
 unchanged and recomputes it otherwise. Names (the model's, the record's) are not inputs: they
@@ -35,6 +36,7 @@ from bearingfw.experiment.structure import (
     code_inputs,
     import_paths,
     registry_for,
+    resolved_setup,
 )
 from bearingfw.model import Model
 from bearingfw.plugins import Registry
@@ -43,7 +45,7 @@ __all__ = ["CellJob", "canonical_json", "cell_id", "plan_cells", "recording"]
 
 
 def cell_id(model: str, record: str, intensity: str) -> str:
-    """``"M2/tremor/D_II"``: also the cell's place in the results store."""
+    """``"model/record/intensity"``: also the cell's place in the results store."""
     return f"{model}/{record}/{intensity}"
 
 
@@ -78,18 +80,20 @@ def recording(experiment: Experiment) -> int | None:
 
 
 def plan_cells(
-    experiment: Experiment, registry: Registry | None = None, models: Mapping[str, Model] | None = None
+    experiment: Experiment, registry: Registry | None = None, models: Mapping[str, Model] | None = None,
+    setup: tuple | None = None,
 ) -> list[CellJob]:
     """Every cell of the experiment, model-major, then record, then intensity, with its digest.
 
-    ``models``: the built model of each bearing model (the laws it uses count in the digest), if
-    the caller has them (:func:`~bearingfw.experiment.runner.check_experiment` does); else built here.
+    ``models``: the built model of each bearing model (the laws it uses count in the digest), and
+    ``setup``: the resolved ``(intensities, rayleigh)`` (:func:`~bearingfw.experiment.structure.resolved_setup`),
+    if the caller has them (:func:`~bearingfw.experiment.runner.check_experiment` does); else made here.
     """
     paths = import_paths(experiment)
     registry = registry or registry_for(experiment.plugins, paths)
     if models is None:
-        models = {m.name: build_model(experiment.structure, m, registry, paths) for m in experiment.models}
-    rayleigh = experiment.damping.rayleigh()
+        models = {m.name: build_model(experiment, m, registry) for m in experiment.models}
+    intensities, rayleigh = setup or resolved_setup(experiment, registry)
     common = {
         "structure": attrs.asdict(experiment.structure),
         "integration": attrs.asdict(experiment.integration),
@@ -105,13 +109,13 @@ def plan_cells(
         for record in experiment.records:
             data, readers = records[record.name]
             code = code_inputs(experiment, registry, laws, readers)
-            for intensity in experiment.intensity_list:
+            for intensity in intensities:
                 inputs = {
                     **common,
                     "code": code,
                     "model": _without_name(attrs.asdict(model)),
                     "record": data,
-                    "intensity": {**attrs.asdict(intensity), "scale": scale},
+                    "intensity": {**intensity.inputs(), "scale": scale},
                 }
                 digest = hashlib.sha256(canonical_json(inputs).encode()).hexdigest()
                 jobs.append(CellJob(experiment, model.name, record.name, intensity, inputs, digest))

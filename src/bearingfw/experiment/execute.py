@@ -19,9 +19,9 @@ import traceback
 
 import attrs
 
-from bearingfw.analysis import TransientError, gravity, solve_transient
+from bearingfw.analysis import Rayleigh, TransientError, gravity, solve_transient
 from bearingfw.experiment.cells import CellJob, recording
-from bearingfw.experiment.metrics import MIN_NORMAL_FRACTION, recorders, reduce_result
+from bearingfw.experiment.metrics import MIN_NORMAL_FRACTION, metric_families, recorders, reduce_result
 from bearingfw.experiment.records import ground_acceleration, load_record, scaled_record
 from bearingfw.experiment.store import Store, thinned
 from bearingfw.experiment.structure import (
@@ -83,7 +83,7 @@ def _history_meta(job: CellJob, model, elements, nodes, every: int) -> dict:
         "digest": job.digest,
         "every": every,
         "description": "bearingfw cell histories, every `every`-th integration step from the dead-load state: "
-        "time (s); stress.<element>, stress_dynamic.<element>, stress_increase.<element> (Pa, maximum over the "
+        "time (s); <family>.<element> of the stress families (Pa, maximum over the "
         "element's recovery points and ends); bearings.<quantity> (t, connectors[, local x y z]; friction_ratio "
         "NaN where the normal force is at most the fraction min_normal_fraction of its dead-load value); "
         "deck.acceleration (t, nodes, global x y z, absolute); ground.acceleration (record samples, global x y z)",
@@ -116,6 +116,34 @@ def failed_outcome(job: CellJob, exc: BaseException, wall_time: float = 0.0) -> 
     return CellOutcome(document)
 
 
+def _scaled_record(job: CellJob, registry):
+    """The cell's record, read, on the integration grid and scaled to the cell's intensity, and its measures."""
+    experiment = job.experiment
+    spec = experiment.record(job.record)
+    record = scaled_record(load_record(experiment, spec, registry), job.intensity, experiment.intensities,
+                           experiment.integration.dt_integration, registry)
+    measures = {
+        "source": record.title, "synthetic": record.synthetic, "dt": record.dt, "samples": record.n,
+        "scale_factor": record.metadata.get("scale_factor", 1.0), "target": job.intensity.target.to_dict(),
+        "pga_h10": record_pga_h10(record), "t_ha": record_t_ha(record),
+        "degree": record_degree(record, get_scale(experiment.intensities.scale, registry)),
+        "notes": list(record.notes),
+    }
+    return record, ground_acceleration(record, spec.components), measures
+
+
+def _shake(job: CellJob, model, system, ag, dt, elements, nodes):
+    """The dead load, then the ground motion ``ag``: the transient result (a failed analysis: what it computed
+    up to the failure, and the error to raise once that is kept)."""
+    experiment = job.experiment
+    damping = Rayleigh(job.inputs["damping"]["alpha"], job.inputs["damping"]["beta"])
+    try:
+        return solve_transient(system, ag, dt, settings=experiment.integration, damping=damping,
+                               recorders=recorders(elements, nodes, model), preload=gravity(system)), None
+    except TransientError as exc:  # keep what was computed up to the failure, for diagnosis
+        return exc.result, exc
+
+
 def compute_cell(job: CellJob) -> CellOutcome:
     """Compute one cell (module docstring); failures are outcomes, not exceptions."""
     experiment = job.experiment
@@ -123,37 +151,15 @@ def compute_cell(job: CellJob) -> CellOutcome:
     document = _document(job)
     histories = meta = None
     try:
-        paths = import_paths(experiment)
-        registry = registry_for(experiment.plugins, paths)
-        model = build_model(experiment.structure, experiment.model(job.model), registry, paths)
+        registry = registry_for(experiment.plugins, import_paths(experiment))
+        model = build_model(experiment, experiment.model(job.model), registry)
         document["laws"] = _laws(model)
         elements = response_elements(experiment.structure, model)
         nodes = deck_nodes(experiment.structure, model)
-        spec = experiment.record(job.record)
-        record = scaled_record(
-            load_record(experiment, spec, registry), job.intensity, experiment.intensities,
-            experiment.integration.dt_integration, registry,
-        )
-        document["record_measures"] = {
-            "source": record.title, "synthetic": record.synthetic, "dt": record.dt, "samples": record.n,
-            "scale_factor": record.metadata.get("scale_factor", 1.0), "pga_h10": record_pga_h10(record),
-            "t_ha": record_t_ha(record),
-            "degree": record_degree(record, get_scale(experiment.intensities.scale, registry)),
-            "notes": list(record.notes),
-        }
-        ag = ground_acceleration(record, spec.components)
-        system = as_system(model, registry)
-        preload = gravity(system)
-        failure = None
-        try:
-            result = solve_transient(
-                system, ag, record.dt, settings=experiment.integration, damping=experiment.damping.rayleigh(),
-                recorders=recorders(elements, nodes, model), preload=preload,
-            )
-        except TransientError as exc:  # keep what was computed up to the failure, for diagnosis
-            failure, result = exc, exc.result
+        record, ag, document["record_measures"] = _scaled_record(job, registry)
+        result, failure = _shake(job, model, as_system(model, registry), ag, record.dt, elements, nodes)
         if result is not None:
-            reduced, metrics = reduce_result(result, model, elements, nodes)
+            reduced, metrics = reduce_result(result, model, elements, nodes, metric_families(registry))
             document["stats"] = result.stats
             document["settings"] = result.settings
             every = recording(experiment)

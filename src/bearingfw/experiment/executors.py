@@ -1,7 +1,25 @@
 """Executors: who computes the cells. Serial, local processes (the default), or Dask distributed.
 
-Each cell is independent. Every executor calls ``done(summary)`` in the running process as each
-cell finishes, in completion order.
+The executor protocol. An executor is a class registered through the plugin hook
+``bearingfw_register_executors`` (the built-in ones by :mod:`bearingfw.experiment.builtin`), with
+
+- ``name`` (class attribute, str): what ``bearingfw run --executor NAME`` calls it;
+- ``description`` (class attribute, str): one line for ``bearingfw plugins``;
+- a constructor taking ``workers`` (int or None: the executor's default) as a keyword, and
+  ``scheduler`` (an address, str or None) if it connects to one;
+- ``workers`` (int): how many cells it computes at once (the progress line and the figures use it);
+- ``run(jobs, store, done)``: compute every :class:`~bearingfw.experiment.cells.CellJob` of
+  ``jobs``, commit each to the :class:`~bearingfw.experiment.store.Store` ``store``
+  (:func:`~bearingfw.experiment.execute.compute_and_store` does both in the process that runs
+  it; or :func:`~bearingfw.experiment.execute.compute_cell` remotely, then
+  :func:`~bearingfw.experiment.execute.write_outcome` here), and call ``done(summary)`` here as
+  each finishes, in completion order. A cell that fails is an outcome, not an exception; an
+  exception from ``run`` stops the run (``KeyboardInterrupt`` must abandon the cells in progress).
+
+A new executor is one module with such a class and a ``@hookimpl`` returning it, loaded by an
+entry point or by an experiment's ``plugins = [...]``; :func:`make_executor` finds it by name.
+
+Each cell is independent. The built-in executors (:data:`BUILTIN`):
 
 - :class:`SerialExecutor`: one after the other in this process (debugging, tiny runs).
 - :class:`ProcessExecutor`: a pool of worker processes (default: one per core). A worker computes
@@ -33,9 +51,11 @@ import multiprocessing
 import multiprocessing.connection
 import os
 import threading
+import inspect
 from collections.abc import Callable, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
+from typing import Protocol
 
 from bearingfw.experiment.cells import CellJob
 from bearingfw.experiment.execute import (
@@ -48,7 +68,9 @@ from bearingfw.experiment.execute import (
 from bearingfw.experiment.store import Store
 
 __all__ = [
+    "BUILTIN",
     "EXECUTORS",
+    "Executor",
     "DaskExecutor",
     "ExecutorError",
     "ProcessExecutor",
@@ -58,9 +80,17 @@ __all__ = [
     "map_in_processes",
 ]
 
-EXECUTORS = ("serial", "processes", "dask")
-
 Done = Callable[[CellSummary], None]
+
+
+class Executor(Protocol):
+    """What an executor is (module docstring); the registry only checks ``name``."""
+
+    name: str
+    description: str
+    workers: int
+
+    def run(self, jobs: Sequence[CellJob], store: Store, done: Done) -> None: ...
 
 
 class ExecutorError(RuntimeError):
@@ -95,7 +125,10 @@ class SerialExecutor:
     """Cells one after the other in this process."""
 
     name = "serial"
-    workers = 1
+    description = "one cell after the other in this process (debugging, tiny runs)"
+
+    def __init__(self, workers: int | None = None):
+        self.workers = 1
 
     def run(self, jobs: Sequence[CellJob], store: Store, done: Done) -> None:
         for job in jobs:
@@ -110,6 +143,7 @@ class ProcessExecutor:
     """A pool of local worker processes (module docstring)."""
 
     name = "processes"
+    description = "a pool of local worker processes, one per core by default; each commits its own cells"
 
     def __init__(self, workers: int | None = None):
         self.workers = max(1, workers or _cores())
@@ -183,6 +217,7 @@ class DaskExecutor:
     """Cells on a Dask cluster (module docstring)."""
 
     name = "dask"
+    description = "Dask distributed: a cluster at --scheduler ADDRESS, or a local one (the 'dask' extra)"
 
     def __init__(self, scheduler: str | None = None, workers: int | None = None, timeout: str = "20s"):
         self.scheduler = scheduler
@@ -256,16 +291,39 @@ def map_in_processes(fn: Callable, items: Sequence[tuple], extra: Callable | Non
         pool.shutdown(wait=True, cancel_futures=True)
 
 
-def make_executor(name: str = "processes", workers: int | None = None, scheduler: str | None = None):
-    """The executor called ``name`` (:data:`EXECUTORS`)."""
-    if name not in EXECUTORS:
-        raise ExecutorError(f"unknown executor {name!r}; executors: {', '.join(EXECUTORS)}")
-    if scheduler and name != "dask":
-        raise ExecutorError("a scheduler address is for the dask executor (--executor dask)")
+#: The built-in executors, registered by :mod:`bearingfw.experiment.builtin`.
+BUILTIN = (SerialExecutor, ProcessExecutor, DaskExecutor)
+#: Their names.
+EXECUTORS = tuple(e.name for e in BUILTIN)
+
+
+def _takes(factory, keyword: str) -> bool:
+    try:
+        parameters = inspect.signature(factory).parameters.values()
+    except (TypeError, ValueError):
+        return False
+    return any(p.name == keyword or p.kind is p.VAR_KEYWORD for p in parameters)
+
+
+def make_executor(name: str = "processes", workers: int | None = None, scheduler: str | None = None,
+                  registry=None):
+    """The executor registered as ``name`` (module docstring), with ``workers`` and, for one that
+    connects to a scheduler, its address; ``registry``: where to look (default: the installed plugins)."""
+    from bearingfw.plugins import get_registry
+
+    executors = (registry or get_registry()).executors
+    if name not in executors:
+        raise ExecutorError(f"unknown executor {name!r}; executors: {', '.join(executors)}")
+    factory = executors[name].value
+    if scheduler and not _takes(factory, "scheduler"):
+        takers = [n for n, e in executors.items() if _takes(e.value, "scheduler")]
+        raise ExecutorError(f"a scheduler address is for the {' or '.join(takers) or 'no'} executor "
+                            f"(--executor {takers[0] if takers else 'NAME'}), not {name!r}")
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ExecutorError(f"workers must be an integer >= 1, got {workers!r}")
-    if name == "serial":
-        return SerialExecutor()
-    if name == "processes":
-        return ProcessExecutor(workers)
-    return DaskExecutor(scheduler, workers)
+    try:
+        return factory(workers=workers, scheduler=scheduler) if scheduler else factory(workers=workers)
+    except ExecutorError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - a plugin's executor that cannot start
+        raise ExecutorError(f"executor {name!r} could not start: {type(exc).__name__}: {exc}") from None

@@ -1,5 +1,6 @@
-"""Figures of an experiment (PNG and SVG): the paper's figures 18-21 for any record and intensity,
-every bearing's hysteresis loops, the matrices as heatmaps, and the records' intensity chart.
+"""Figures of an experiment (PNG and SVG): for any record and intensity the stress histories of every
+model at the chosen elements, the force and friction ratio histories of the chosen bearing, every
+bearing's hysteresis loops; the matrices as heatmaps, and the records' intensity chart.
 
 Built on :class:`matplotlib.figure.Figure` with the Agg canvas, never pyplot (no window, no global
 backend switch). The plotting functions are pure: they take histories as the results store
@@ -20,7 +21,6 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
 from bearingfw.experiment.matrices import Matrices
-from bearingfw.experiment.metrics import display_scale
 from bearingfw.plotting import FORMATS, new_figure, save
 
 __all__ = [
@@ -53,13 +53,13 @@ def plot_stress_histories(
     cells: Mapping[str, Histories], elements: Sequence[str], title: str, synthetic: bool = False,
     colours: Mapping[str, str] | None = None,
 ) -> Figure:
-    """Maximum principal stress histories of every model at ``elements`` (the paper's figures 18, 20):
-    the total (dead load + tremor) on the left, the tremor's part on the right, MPa."""
+    """Maximum principal stress histories of every model at ``elements``: the total (dead load + ground
+    motion) on the left, the motion's part on the right, MPa."""
     colours = colours or _colours(list(cells))
     figure = new_figure(11.0, 2.6 * len(elements) + 0.8)
     axes = np.atleast_2d(figure.subplots(len(elements), 2, sharex=True, squeeze=False))
     for row, element in zip(axes, elements):
-        for ax, family, label in zip(row, ("stress", "stress_dynamic"), ("total", "tremor's part")):
+        for ax, family, label in zip(row, ("stress", "stress_dynamic"), ("total", "ground motion's part")):
             for model, (h, _) in cells.items():
                 key = f"{family}.{element}"
                 if key in h:
@@ -82,7 +82,7 @@ def plot_bearing_force(
     cells: Mapping[str, Histories], bearing: str, title: str, synthetic: bool = False,
     colours: Mapping[str, str] | None = None,
 ) -> Figure:
-    """Force histories of ``bearing`` in its sliding directions for each model (figures 19a, 21a), kN."""
+    """Force histories of ``bearing`` in its sliding directions for each model, kN."""
     colours = colours or _colours(list(cells))
     first_meta = next(iter(cells.values()))[1]
     directions = _sliding(first_meta, bearing)
@@ -104,8 +104,7 @@ def plot_friction_ratio(
     cells: Mapping[str, Histories], bearing: str, mu: Mapping[str, float | None], title: str,
     synthetic: bool = False, colours: Mapping[str, str] | None = None,
 ) -> Figure:
-    """abs(F)/N of ``bearing`` for each model, with each model's friction coefficient mu dashed
-    (figures 19b, 21b)."""
+    """abs(F)/N of ``bearing`` for each model, with each model's friction coefficient mu dashed."""
     colours = colours or _colours(list(cells))
     figure = new_figure(9.0, 3.4)
     ax = figure.subplots()
@@ -155,7 +154,7 @@ def plot_hysteresis(histories: Histories, title: str, synthetic: bool = False) -
 def plot_heatmap(matrices: Matrices, metric: str) -> Figure:
     """A matrix as a heatmap: colour = ratio to the reference model (log scale, white = 1), text =
     value in display units and ratio."""
-    factor, unit = display_scale(metric)
+    factor, unit = matrices.display(metric)
     values = np.array([[matrices.value(metric, m, i) for i in matrices.intensities] for m in matrices.models])
     ratios = np.array([[matrices.ratio(metric, m, i) for i in matrices.intensities] for m in matrices.models])
     with np.errstate(divide="ignore", invalid="ignore"):

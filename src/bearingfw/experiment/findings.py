@@ -1,33 +1,28 @@
-"""The paper's findings (section 4.1), checked on a matrix: what the default study should show.
+"""Findings: the statements an experiment declares (``[[findings]]``), checked on its matrices.
 
-The paper compares maximum principal stresses at S1 (mid main span) and 3B (over a sliding
-bearing) and the forces in bearing 3B for M0 (frictionless), M1 (springs K_s) and M2
-(regularized Coulomb, mu = 0.04). Stated as testable inequalities (the bearingfw design notes):
-
-1. D_0: M1 and M2 within 15 % of each other at S1 and at 3B (the bearings stick);
-2. D_0: M0 below 0.7 x M1 at S1 and below 0.3 x M1 at 3B (the paper: about a half, a tenth);
-3. the M0/M1 ratios equal under D_0 and D_II (both models linear);
-4. D_II: M2 at 3B below 0.7 x M1 (friction caps the force the girder gets);
-5. M2's maximum friction ratio abs(F)/N at 3B equals mu under D_II, D_III and D_IV (it slides).
-
-The paper's linearity argument (3) holds for the dynamic part of the stress (the total adds
-the same dead-load stress at every intensity), so the stress findings are checked on the
-``stress_dynamic`` family by default; :func:`paper_findings` takes another family to show the
-totals.
+Each :class:`~bearingfw.experiment.spec.FindingSpec` reads one metric at one or more intensities,
+of a ratio of two models (A/B at the same intensity) or of one model's value, and makes one
+test (``within``, ``below``, ``above``, ``equals``, ``same``: the spec's docstring). A statement
+that names several levels is checked at each (one :class:`Finding` per level), except ``same``,
+which compares them. A finding holds, fails, or cannot be judged (``holds`` None: a value the
+matrix lacks, a failed or missing cell, a zero divisor). The built-in study declares its own
+findings this way (:mod:`bearingfw.bridges.paper_study`); a user's file does the same.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import attrs
 
 from bearingfw.experiment.matrices import Matrices
+from bearingfw.experiment.spec import FindingSpec
 
-__all__ = ["Finding", "applies", "paper_findings"]
+__all__ = ["DEFAULT_TOLERANCE", "Finding", "check_findings", "finding_statement"]
 
-#: Relative tolerance of the equalities (3, 5): round-off of a converged Newton solution.
-EQUAL = 1e-6
+#: Relative tolerance of ``equals`` when none is given: round-off of a converged Newton solution.
+DEFAULT_TOLERANCE = 1e-6
 
 
 @attrs.frozen
@@ -37,52 +32,81 @@ class Finding:
     statement: str
     measured: str
     holds: bool | None
+    group: str = "Findings"
 
 
-def applies(matrices: Matrices, family: str = "stress_dynamic") -> bool:
-    """True when the matrix has what the findings compare (M0, M1, M2, D_0, D_II, S1, 3B)."""
-    needed = {f"{family}.S1", f"{family}.3B", "friction_ratio.3B"}
-    return (
-        {"M0", "M1", "M2"} <= set(matrices.models)
-        and {"D_0", "D_II"} <= set(matrices.intensities)
-        and needed <= set(matrices.metrics)
-    )
+def _quantity(m: Matrices, spec: FindingSpec, level: str) -> float:
+    """The finding's number at ``level``: the ratio A/B, or A's value (NaN where undefined)."""
+    if spec.model is not None:
+        return m.value(spec.metric, spec.model, level)
+    a, b = (m.value(spec.metric, name, level) for name in spec.models)
+    return a / b if math.isfinite(a) and math.isfinite(b) and b != 0 else math.nan
 
 
-def _ratio(m: Matrices, metric: str, a: str, b: str, level: str) -> float:
-    x, y = m.value(metric, a, level), m.value(metric, b, level)
-    return x / y if math.isfinite(x) and math.isfinite(y) and y != 0 else math.nan
+def _written(spec: FindingSpec) -> str:
+    """A statement written from the fields, when the spec gives no ``name``."""
+    test, bound = spec.test, spec.bound
+    if spec.models is not None:
+        a, b = spec.models
+        words = {
+            "within": f"{a} and {b} within {bound:.4g} of each other (ratio)",
+            "below": f"{a} below {bound:g} x {b}",
+            "above": f"{a} above {bound:g} x {b}",
+            "equals": f"{a}/{b} equals {bound:g}",
+            "same": f"{a}/{b} the same under {' and '.join(spec.level)}",
+        }[test]
+    else:
+        words = {
+            "within": f"{spec.model} within {bound:g} of 1",
+            "below": f"{spec.model} below {bound:g}",
+            "above": f"{spec.model} above {bound:g}",
+            "equals": f"{spec.model} equals {bound:g}",
+            "same": f"{spec.model} the same under {' and '.join(spec.level)}",
+        }[test]
+    where = "" if test == "same" else "{level}, "
+    return f"{where}{spec.metric}: {words}"
 
 
-def _check(statement: str, measured: str, value: float, test) -> Finding:
-    return Finding(statement, measured, None if not math.isfinite(value) else bool(test(value)))
+def finding_statement(spec: FindingSpec, level: str | None = None) -> str:
+    """The statement as reported: ``name`` (or one written from the fields) with ``{level}`` filled in."""
+    text = spec.name if spec.name is not None else _written(spec)
+    return text.replace("{level}", level if level is not None else ", ".join(spec.level))
 
 
-def paper_findings(matrices: Matrices, mu: float = 0.04, family: str = "stress_dynamic") -> list[Finding]:
-    """The findings of the module docstring on ``matrices`` (stresses of ``family``)."""
-    if not applies(matrices, family):
-        return []
+def _measured(spec: FindingSpec, x: float) -> str:
+    if spec.models is not None:
+        return f"{spec.subject} = {x:.3f}"
+    return f"{spec.metric} of {spec.model} = {x:.6g}"
+
+
+def _holds(spec: FindingSpec, x: float) -> bool:
+    test, bound = spec.test, spec.bound
+    if test == "within":
+        return abs(x - 1.0) <= bound
+    if test == "below":
+        return x < bound
+    if test == "above":
+        return x > bound
+    tolerance = DEFAULT_TOLERANCE if spec.tolerance is None else spec.tolerance
+    return abs(x - bound) <= (tolerance * abs(bound) if bound != 0 else tolerance)
+
+
+def _check(spec: FindingSpec, matrices: Matrices) -> list[Finding]:
+    if spec.test == "same":
+        values = [_quantity(matrices, spec, level) for level in spec.level]
+        measured = " and ".join(f"{v:.6f}" for v in values)
+        first = values[0]
+        usable = all(math.isfinite(v) for v in values) and first != 0
+        holds = all(abs(v / first - 1.0) <= spec.same for v in values[1:]) if usable else None
+        return [Finding(finding_statement(spec), measured, holds, spec.group)]
     out = []
-    for where in ("S1", "3B"):
-        metric = f"{family}.{where}"
-        r = _ratio(matrices, metric, "M2", "M1", "D_0")
-        out.append(_check(f"D_0, {where}: M1 and M2 within 15 %", f"M2/M1 = {r:.3f}", r, lambda v: abs(v - 1) <= 0.15))
-    for where, bound in (("S1", 0.7), ("3B", 0.3)):
-        metric = f"{family}.{where}"
-        r = _ratio(matrices, metric, "M0", "M1", "D_0")
-        out.append(_check(f"D_0, {where}: M0 below {bound} x M1", f"M0/M1 = {r:.3f}", r, lambda v, b=bound: v < b))
-    for where in ("S1", "3B"):
-        metric = f"{family}.{where}"
-        r0, r2 = _ratio(matrices, metric, "M0", "M1", "D_0"), _ratio(matrices, metric, "M0", "M1", "D_II")
-        diff = abs(r2 / r0 - 1) if math.isfinite(r0) and math.isfinite(r2) and r0 else math.nan
-        out.append(_check(f"{where}: M0/M1 the same under D_0 and D_II (linear models)",
-                          f"{r0:.6f} and {r2:.6f}", diff, lambda v: v <= EQUAL))
-    r = _ratio(matrices, f"{family}.3B", "M2", "M1", "D_II")
-    out.append(_check("D_II, 3B: M2 below 0.7 x M1", f"M2/M1 = {r:.3f}", r, lambda v: v < 0.7))
-    for level in ("D_II", "D_III", "D_IV"):
-        if level not in matrices.intensities:
-            continue
-        value = matrices.value("friction_ratio.3B", "M2", level)
-        out.append(_check(f"{level}: M2's maximum friction ratio at 3B equals mu = {mu:g}",
-                          f"max abs(F)/N = {value:.6g}", value, lambda v: abs(v / mu - 1) <= EQUAL))
+    for level in spec.level:
+        x = _quantity(matrices, spec, level)
+        holds = bool(_holds(spec, x)) if math.isfinite(x) else None
+        out.append(Finding(finding_statement(spec, level), _measured(spec, x), holds, spec.group))
     return out
+
+
+def check_findings(specs: Sequence[FindingSpec], matrices: Matrices) -> tuple[Finding, ...]:
+    """Every declared finding checked on ``matrices``, in the order declared."""
+    return tuple(f for spec in specs for f in _check(spec, matrices))

@@ -1,21 +1,29 @@
-"""What a cell records, and its reduction to time histories and peak metrics.
+"""Metric families: what a cell records, and how each family reduces the response to peak metrics.
 
-Recorded (every integration step): section forces of the response elements, every connector's
-response, and the absolute acceleration of the deck nodes. Metrics are named
-``<family>.<item>``; the families (:data:`FAMILIES`):
+A metric is named ``<family>.<item>``: the family says what is measured, the item where (a
+response element, a connector, a direction). Each family is one :class:`MetricFamily` record:
+its name, SI unit, a one-line description, which recorded response it reads (``reads``), which
+items it has (``items``), the function that reduces a cell's response to one peak per item
+(``reduce``), and its note in the report. The records drive everything after a cell is computed:
+the metrics, the matrices, their units, the default table and the report. Families are
+registered through the plugin hook ``bearingfw_register_metrics`` (the built-in ones below by
+:mod:`bearingfw.experiment.builtin`), so a new metric is one module with a family and a
+registration.
+
+The built-in families (:data:`BUILTIN`):
 
 ======================  =====  ==========================================================================
 family                  unit   value
 ======================  =====  ==========================================================================
-stress.<element>        Pa     peak maximum principal stress, total (dead load + tremor), over the
+stress.<element>        Pa     peak maximum principal stress, total (dead load + ground motion), over the
                                element's recovery points at both ends: what a design check compares
                                with the material's strength
-stress_dynamic.<el.>    Pa     peak maximum principal stress of the tremor's own stress state: sigma1
-                               of the section forces F(t) - F_dead (module notes). The family the
-                               models are compared on (the paper's findings)
+stress_dynamic.<el.>    Pa     peak maximum principal stress of the ground motion's own stress state:
+                               sigma1 of the section forces F(t) - F_dead (notes below); the family on
+                               which models are compared
 stress_increase.<el.>   Pa     peak rise of the total maximum principal stress above its dead-load
                                value at the same point: max over t and points of sigma1(F(t)) -
-                               sigma1(F_dead), what one reads off a total stress history (module notes)
+                               sigma1(F_dead), what one reads off a total stress history (notes below)
 bearing_force.<b>       N      peak force magnitude in the bearing's sliding directions (PLANAR: x and
                                y; AXIAL: the guided one; NaN for JOIN, where nothing slides); with the
                                rigid ``fixed`` law it is the restraint force there
@@ -35,21 +43,19 @@ Each metric keeps the time of its peak and where it occurred (element end and re
 node). Metrics always use every integration step; ``[output] every`` only thins the saved
 histories.
 
-Dynamic stress. The paper compares "maximum principal stresses" of models M0, M1, M2 (its
-figures 18, 20) and argues that the linear models' responses are "proportional to applied loads".
-The stress tensor at a point is linear in the section forces, its maximum principal value is not:
-``sigma1(F_dead + F_dyn)`` is not ``sigma1(F_dead) + sigma1(F_dyn)``. Of the two ways to take
-the tremor's part, ``stress_dynamic`` = ``sigma1(F_dyn)`` is the maximum principal stress of a real
-stress state (the tremor's, which adds to the dead load's tensor by superposition) and is
-positively homogeneous in the response: a linear model's value scales exactly with the record,
-so ratios between models do not depend on the intensity, as the paper states. ``stress_increase``
-= ``sigma1(F) - sigma1(F_dead)`` is the change of one principal value, not a principal stress of
-anything: it depends on how the dead-load stress is oriented (a point in dead-load compression
-hardly rises until the tremor turns it into tension), is not proportional to the intensity even
-for linear models, and can be negative. So model comparisons of "the peak maximum principal
-stress" use ``stress_dynamic``; ``stress`` (the total) is the one for strength checks; and
-``stress_increase`` is kept because it is what a total stress-time history plotted from the
-dead-load level shows.
+Dynamic stress. The stress tensor at a point is linear in the section forces, its maximum
+principal value is not: ``sigma1(F_dead + F_dyn)`` is not ``sigma1(F_dead) + sigma1(F_dyn)``. Of
+the two ways to take the ground motion's part, ``stress_dynamic`` = ``sigma1(F_dyn)`` is the
+maximum principal stress of a real stress state (the motion's, which adds to the dead load's
+tensor by superposition) and is positively homogeneous in the response: a linear model's value
+scales exactly with the record, so ratios between models do not depend on the intensity.
+``stress_increase`` = ``sigma1(F) - sigma1(F_dead)`` is the change of one principal value, not a
+principal stress of anything: it depends on how the dead-load stress is oriented (a point in
+dead-load compression hardly rises until the motion turns it into tension), is not proportional
+to the intensity even for linear models, and can be negative. So model comparisons of "the peak
+maximum principal stress" use ``stress_dynamic``; ``stress`` (the total) is the one for strength
+checks; and ``stress_increase`` is kept because it is what a total stress-time history plotted
+from the dead-load level shows.
 
 Friction ratio. ``abs(F)/N`` divides by the bearing's normal force, which the vertical motion
 changes; as N approaches zero (a bearing about to lift off) the ratio grows without bound while
@@ -60,8 +66,11 @@ normal force (its value at the start, sample 0); elsewhere it is NaN, in the his
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Callable, Mapping
 
+import attrs
 import numpy as np
 
 from bearingfw.analysis import (
@@ -72,14 +81,19 @@ from bearingfw.analysis import (
     section_stresses,
 )
 from bearingfw.model import ConnectorKind, Model
+from bearingfw.plugins import Registry, get_registry
 
 __all__ = [
-    "FAMILIES",
+    "BUILTIN",
+    "DIRECTIONS",
     "MIN_NORMAL_FRACTION",
-    "NOTES",
-    "STRESS_FAMILIES",
+    "READS",
+    "CellResponse",
+    "MetricFamily",
+    "Peak",
     "display_scale",
     "friction_ratio",
+    "metric_families",
     "metric_family",
     "recorders",
     "reduce_result",
@@ -87,105 +101,87 @@ __all__ = [
 
 #: The friction ratio abs(F)/N counts only while N exceeds this fraction of the dead-load N (module notes).
 MIN_NORMAL_FRACTION = 0.1
+#: The items of a family over global directions.
+DIRECTIONS = ("x", "y", "z")
 
-#: Metric families in display order: (unit, description).
-FAMILIES = {
-    "stress": ("Pa", "peak maximum principal stress, dead load + tremor"),
-    "stress_dynamic": ("Pa", "peak maximum principal stress of the tremor's own stress state, sigma1(F - F_dead)"),
-    "stress_increase": ("Pa", ("peak rise of the total maximum principal stress above its dead-load value, "
-                               "sigma1(F) - sigma1(F_dead)")),
-    "bearing_force": ("N", "peak force in the bearing's sliding directions"),
-    "bearing_shear": ("N", "peak horizontal force transmitted (guides and ties included)"),
-    "bearing_displacement": ("m", "peak relative displacement in the sliding directions"),
-    "slip": ("m", "peak irreversible slip reported by the law"),
-    "friction_ratio": ("-", (f"maximum abs(F)/N in the sliding directions while N > {MIN_NORMAL_FRACTION:.0%} "
-                             "of its dead-load value")),
-    "deck_acceleration": ("m/s^2", "peak absolute deck acceleration"),
+#: The recorded responses a family can read (``MetricFamily.reads``) and the items each has.
+SECTIONS, BEARINGS, DECK = "sections", "bearings", "deck"
+READS = {
+    SECTIONS: "section forces of the response elements ([structure] elements), every step; items: the elements",
+    BEARINGS: "every connector's force, displacement, slip, normal force and friction ratio; items: the connectors",
+    DECK: "absolute acceleration of the deck nodes ([structure] deck_nodes); items: the directions x, y, z",
 }
 
-#: Display units for tables and figures: unit -> (factor, label).
+#: Display units for tables and figures: SI unit -> (factor, label).
 _DISPLAY = {"Pa": (1e-6, "MPa"), "N": (1e-3, "kN"), "m": (1e3, "mm"), "m/s^2": (1.0, "m/s²"), "-": (1.0, "-")}
 
-#: What the report says of the families whose definition is a choice (module notes).
-NOTES = {
-    "stress": "the total maximum principal stress (dead load + tremor), the one to compare with a strength",
-    "stress_dynamic": (
-        "sigma1 of the stress state of the tremor's own section forces F(t) - F_dead: a real stress state that adds "
-        "to the dead load's by superposition, and proportional to the intensity for a linear model, so that ratios "
-        "between models do not depend on the intensity (the paper's argument). The models are compared on it"
-    ),
-    "stress_increase": (
-        "sigma1(F(t)) - sigma1(F_dead) at the same point: how far the total maximum principal stress rises above its "
-        "dead-load value (what a total stress history plotted from the dead-load level shows); not a principal "
-        "stress of any state, not proportional to the intensity, and at most stress_dynamic (sigma1 is subadditive)"
-    ),
-    "friction_ratio": (
-        f"abs(F)/N only while the bearing is pressed with more than {MIN_NORMAL_FRACTION:.0%} of its dead-load normal "
-        "force: near uplift the ratio grows without bound while the force is tiny (NaN there, in the histories too)"
-    ),
-}
 
-#: The families whose items are response elements.
-STRESS_FAMILIES = ("stress", "stress_dynamic", "stress_increase")
+@attrs.frozen
+class Peak:
+    """One metric of one cell: its value (SI units, NaN where it does not apply), the time of the
+    peak (s) and where it occurred; ``history``: the value's time history if the family keeps one."""
 
-_SECTIONS, _BEARINGS, _DECK = "sections", "bearings", "deck"
+    value: float
+    time: float | None = None
+    at: str | None = None
+    history: np.ndarray | None = attrs.field(default=None, eq=False, repr=False)
+
+    def entry(self, unit: str) -> dict:
+        """The metric as a cell's JSON document keeps it."""
+        return {"value": self.value, "unit": unit, "time": self.time, "at": self.at}
+
+
+@attrs.frozen
+class MetricFamily:
+    """A family of metrics ``<name>.<item>`` (module docstring).
+
+    ``reads``: the recorded response it needs (a key of :data:`READS`); the family is measured in
+    a cell only when the structure records it. ``reduce(response)``: a :class:`CellResponse` ->
+    ``{item: Peak}`` for every item of the family. ``note``: what the report says of its
+    definition (empty: nothing beyond ``description``). ``table``: shown in the default table.
+    """
+
+    name: str
+    unit: str
+    description: str
+    reads: str = attrs.field(validator=attrs.validators.in_(tuple(READS)))
+    reduce: Callable[[CellResponse], dict[str, Peak]] = attrs.field(repr=False)
+    note: str = ""
+    table: bool = True
+
+    @property
+    def display(self) -> tuple[float, str]:
+        """(factor, label) of the unit values are shown in (MPa, kN, mm, ...)."""
+        return display_scale(self.unit)
+
+
+def display_scale(unit: str) -> tuple[float, str]:
+    """(factor, label) to show a value in SI ``unit`` in (Pa -> MPa, N -> kN, m -> mm, ...)."""
+    return _DISPLAY.get(unit, (1.0, unit))
 
 
 def metric_family(metric: str) -> str:
-    """``"stress_dynamic.S1"`` -> ``"stress_dynamic"``."""
+    """``"stress_dynamic.G4"`` -> ``"stress_dynamic"``."""
     return metric.partition(".")[0]
 
 
-def display_scale(metric: str) -> tuple[float, str]:
-    """(factor, unit label) to show a metric's SI value in (MPa, kN, mm, ...)."""
-    return _DISPLAY[FAMILIES[metric_family(metric)][0]]
+def metric_families(registry: Registry | None = None) -> dict[str, MetricFamily]:
+    """The registered metric families by name, in registration order (default: the installed plugins)."""
+    registry = registry or get_registry()
+    return {name: entry.value for name, entry in registry.metrics.items()}
 
 
+# ---- a cell's recorded response ------------------------------------------------------------------------
 def recorders(elements: tuple[str, ...], deck_nodes: tuple[str, ...], model: Model) -> list:
-    """The recorders of a cell (every integration step)."""
+    """The recorders of a cell (every integration step): what the families can read (:data:`READS`)."""
     chosen = []
     if elements:
-        chosen.append(ElementForces(elements, name=_SECTIONS))
+        chosen.append(ElementForces(elements, name=SECTIONS))
     if model.connectors:
-        chosen.append(ConnectorResponse(name=_BEARINGS))
+        chosen.append(ConnectorResponse(name=BEARINGS))
     if deck_nodes:
-        chosen.append(NodalResponse(deck_nodes, quantity="acceleration", total=True, name=_DECK))
+        chosen.append(NodalResponse(deck_nodes, quantity="acceleration", total=True, name=DECK))
     return chosen
-
-
-def _peak(values: np.ndarray, time: np.ndarray) -> tuple[float, float | None, tuple | None]:
-    """Largest value of ``values`` (time first axis), its time and index; NaN if all are NaN."""
-    if values.size == 0 or np.all(np.isnan(values)):
-        return math.nan, None, None
-    k = np.unravel_index(int(np.nanargmax(values)), values.shape)
-    return float(values[k]), float(time[k[0]]), tuple(int(i) for i in k)
-
-
-def _entry(value: float, time: float | None, at: str | None) -> dict:
-    return {"value": value, "time": time, "at": at}
-
-
-def _stresses(result: TransientResult, model: Model, elements, histories: dict, metrics: dict) -> None:
-    forces = result[_SECTIONS]  # (t, elements, 2 ends, 6); sample 0 is the dead-load state
-    time = result[f"{_SECTIONS}.time"]
-    for k, name in enumerate(elements):
-        section = model.element(name).section
-        total = section_stresses(forces[:, k], section)
-        dynamic = section_stresses(forces[:, k] - forces[0, k], section)
-        # sigma1 arrays: (t, 2 ends, points)
-        for family, st, sigma1 in (("stress", total, total.sigma1), ("stress_dynamic", dynamic, dynamic.sigma1),
-                                   ("stress_increase", total, total.sigma1 - total.sigma1[:1])):
-            value, t, where = _peak(sigma1, time)
-            at = None if where is None else f"end {'ij'[where[1]]}, point {st.points[where[2]]}"
-            metrics[f"{family}.{name}"] = _entry(value, t, at)
-            histories[f"{family}.{name}"] = sigma1.max(axis=(1, 2))
-
-
-def _norm(values: np.ndarray, directions: tuple[int, ...]) -> np.ndarray:
-    """Magnitude over the given local directions, (t,); NaN if there are none."""
-    if not directions:
-        return np.full(values.shape[0], np.nan)
-    return np.sqrt(np.sum(values[:, list(directions)] ** 2, axis=1))
 
 
 def friction_ratio(ratio: np.ndarray, normal_force: np.ndarray) -> np.ndarray:
@@ -196,59 +192,209 @@ def friction_ratio(ratio: np.ndarray, normal_force: np.ndarray) -> np.ndarray:
     return np.where(counted, ratio, np.nan)
 
 
-def _bearings(result: TransientResult, model: Model, histories: dict, metrics: dict) -> None:
-    time = result[f"{_BEARINGS}.time"]
-    force = result[f"{_BEARINGS}.force"]
-    moved = result[f"{_BEARINGS}.displacement"] - result[f"{_BEARINGS}.displacement"][:1]
-    slip = result[f"{_BEARINGS}.slip"]
-    ratio = friction_ratio(result[f"{_BEARINGS}.friction_ratio"], result[f"{_BEARINGS}.normal_force"])
-    for c, connector in enumerate(model.connectors):
-        sliding = connector.law_directions if connector.kind is not ConnectorKind.JOIN else ()
-        series = {
-            "bearing_force": _norm(force[:, c], sliding),
-            "bearing_shear": _norm(force[:, c], (0, 1)),
-            "bearing_displacement": _norm(moved[:, c], sliding),
-            "slip": _norm(slip[:, c], sliding),
-            "friction_ratio": ratio[:, c],
-        }
-        for family, values in series.items():
-            value, t, _ = _peak(values, time)
-            metrics[f"{family}.{connector.name}"] = _entry(value, t, None)
-    for key in ("force", "displacement", "normal_force", "slip"):
-        histories[f"bearings.{key}"] = result[f"{_BEARINGS}.{key}"]
-    histories["bearings.friction_ratio"] = ratio
+class CellResponse:
+    """A cell's recorded response (:func:`recorders`), as the families read it.
+
+    ``result`` is a :class:`~bearingfw.analysis.TransientResult` or any mapping with its keys
+    (``sections``, ``sections.time``, ``bearings.<quantity>``, ``deck``, ...). What several
+    families share (the stress states of an element, the masked friction ratio) is computed once.
+    """
+
+    def __init__(self, result: TransientResult | Mapping, model: Model, elements: tuple[str, ...] = (),
+                 deck_nodes: tuple[str, ...] = ()):
+        self.result = result
+        self.model = model
+        self.elements = tuple(elements)
+        self.deck_nodes = tuple(deck_nodes)
+
+    def records(self, reads: str) -> bool:
+        """True if the response has what a family reading ``reads`` needs."""
+        return {SECTIONS: bool(self.elements), BEARINGS: bool(self.model.connectors), DECK: bool(self.deck_nodes)}[reads]
+
+    def time(self, reads: str) -> np.ndarray:
+        return self.result[f"{reads}.time"]
+
+    def __getitem__(self, key: str) -> np.ndarray:
+        return self.result[key]
+
+    @functools.cache  # noqa: B019 - one response object per cell; the cache dies with it
+    def stress_states(self, element: str):
+        """``(total, dynamic)`` :func:`~bearingfw.analysis.section_stresses` of ``element``: of the section
+        forces F(t), and of F(t) - F_dead (sample 0 is the dead-load state); sigma1 arrays (t, 2 ends, points)."""
+        k = self.elements.index(element)
+        forces = self.result[SECTIONS][:, k]
+        section = self.model.element(element).section
+        return section_stresses(forces, section), section_stresses(forces - forces[0], section)
+
+    @functools.cached_property
+    def friction_ratio(self) -> np.ndarray:
+        """abs(F)/N (t, connectors), NaN where the bearing is not pressed enough (module notes)."""
+        return friction_ratio(self.result[f"{BEARINGS}.friction_ratio"], self.result[f"{BEARINGS}.normal_force"])
+
+    @functools.cached_property
+    def moved(self) -> np.ndarray:
+        """Connector displacements from the dead-load position (t, connectors, 3)."""
+        displacement = self.result[f"{BEARINGS}.displacement"]
+        return displacement - displacement[:1]
+
+    def histories(self) -> dict[str, np.ndarray]:
+        """The raw response kept with a cell besides the families' own histories (module ``execute``):
+        bearings.force, .displacement, .normal_force, .slip, .friction_ratio (masked); deck.acceleration."""
+        out = {}
+        if self.records(BEARINGS):
+            for key in ("force", "displacement", "normal_force", "slip"):
+                out[f"{BEARINGS}.{key}"] = self.result[f"{BEARINGS}.{key}"]
+            out[f"{BEARINGS}.friction_ratio"] = self.friction_ratio
+        if self.records(DECK):
+            out[f"{DECK}.acceleration"] = self.result[DECK]
+        return out
+
+    @property
+    def sample_time(self) -> np.ndarray:
+        """The time of every kept sample (the recorders all record every step from the dead-load state)."""
+        for reads in (BEARINGS, SECTIONS, DECK):
+            if self.records(reads):
+                return self.time(reads)
+        return self.result.time
 
 
-def _deck(result: TransientResult, deck_nodes, histories: dict, metrics: dict) -> None:
-    time = result[f"{_DECK}.time"]
-    acceleration = result[_DECK]  # (t, nodes, 3), absolute
-    for d, direction in enumerate("xyz"):
+def _peak(values: np.ndarray, time: np.ndarray) -> tuple[float, float | None, tuple | None]:
+    """Largest value of ``values`` (time first axis), its time and index; NaN if all are NaN."""
+    if values.size == 0 or np.all(np.isnan(values)):
+        return math.nan, None, None
+    k = np.unravel_index(int(np.nanargmax(values)), values.shape)
+    return float(values[k]), float(time[k[0]]), tuple(int(i) for i in k)
+
+
+# ---- the built-in families' reductions -------------------------------------------------------------------
+def _stress_family(pick: Callable) -> Callable[[CellResponse], dict[str, Peak]]:
+    """A reduction over the response elements of ``pick(total, dynamic) -> (stress state, sigma1)``."""
+
+    def reduce(response: CellResponse) -> dict[str, Peak]:
+        time = response.time(SECTIONS)
+        out = {}
+        for name in response.elements:
+            state, sigma1 = pick(*response.stress_states(name))
+            value, t, where = _peak(sigma1, time)
+            at = None if where is None else f"end {'ij'[where[1]]}, point {state.points[where[2]]}"
+            out[name] = Peak(value, t, at, history=sigma1.max(axis=(1, 2)))
+        return out
+
+    return reduce
+
+
+def _norm(values: np.ndarray, directions: tuple[int, ...]) -> np.ndarray:
+    """Magnitude over the given local directions, (t,); NaN if there are none."""
+    if not directions:
+        return np.full(values.shape[0], np.nan)
+    return np.sqrt(np.sum(values[:, list(directions)] ** 2, axis=1))
+
+
+def _sliding(connector) -> tuple[int, ...]:
+    return connector.law_directions if connector.kind is not ConnectorKind.JOIN else ()
+
+
+def _bearing_family(series: Callable) -> Callable[[CellResponse], dict[str, Peak]]:
+    """A reduction over every connector of ``series(response, c, connector) -> (t,) values``."""
+
+    def reduce(response: CellResponse) -> dict[str, Peak]:
+        time = response.time(BEARINGS)
+        out = {}
+        for c, connector in enumerate(response.model.connectors):
+            value, t, _ = _peak(series(response, c, connector), time)
+            out[connector.name] = Peak(value, t, None)
+        return out
+
+    return reduce
+
+
+def _deck_acceleration(response: CellResponse) -> dict[str, Peak]:
+    time = response.time(DECK)
+    acceleration = response[DECK]  # (t, nodes, 3), absolute
+    out = {}
+    for d, direction in enumerate(DIRECTIONS):
         value, t, where = _peak(np.abs(acceleration[:, :, d]), time)
-        metrics[f"deck_acceleration.{direction}"] = _entry(value, t, None if where is None else deck_nodes[where[1]])
-    histories["deck.acceleration"] = acceleration
+        out[direction] = Peak(value, t, None if where is None else response.deck_nodes[where[1]])
+    return out
+
+
+#: The built-in families, in display order (registered by :mod:`bearingfw.experiment.builtin`).
+BUILTIN = (
+    MetricFamily(
+        "stress", "Pa", "peak maximum principal stress, dead load + ground motion", SECTIONS,
+        _stress_family(lambda total, dynamic: (total, total.sigma1)),
+        note="the total maximum principal stress (dead load + ground motion), the one to compare with a strength",
+    ),
+    MetricFamily(
+        "stress_dynamic", "Pa",
+        "peak maximum principal stress of the ground motion's own stress state, sigma1(F - F_dead)", SECTIONS,
+        _stress_family(lambda total, dynamic: (dynamic, dynamic.sigma1)),
+        note=("sigma1 of the stress state of the ground motion's own section forces F(t) - F_dead: a real stress "
+              "state that adds to the dead load's by superposition, and proportional to the intensity for a linear "
+              "model, so that ratios between models do not depend on the intensity. The models are compared on it"),
+    ),
+    MetricFamily(
+        "stress_increase", "Pa",
+        "peak rise of the total maximum principal stress above its dead-load value, sigma1(F) - sigma1(F_dead)",
+        SECTIONS, _stress_family(lambda total, dynamic: (total, total.sigma1 - total.sigma1[:1])),
+        note=("sigma1(F(t)) - sigma1(F_dead) at the same point: how far the total maximum principal stress rises "
+              "above its dead-load value (what a total stress history plotted from the dead-load level shows); not a "
+              "principal stress of any state, not proportional to the intensity, and at most stress_dynamic (sigma1 "
+              "is subadditive)"),
+        table=False,
+    ),
+    MetricFamily(
+        "bearing_force", "N", "peak force in the bearing's sliding directions", BEARINGS,
+        _bearing_family(lambda r, c, conn: _norm(r[f"{BEARINGS}.force"][:, c], _sliding(conn))),
+    ),
+    MetricFamily(
+        "bearing_shear", "N", "peak horizontal force transmitted (guides and ties included)", BEARINGS,
+        _bearing_family(lambda r, c, conn: _norm(r[f"{BEARINGS}.force"][:, c], (0, 1))), table=False,
+    ),
+    MetricFamily(
+        "bearing_displacement", "m", "peak relative displacement in the sliding directions", BEARINGS,
+        _bearing_family(lambda r, c, conn: _norm(r.moved[:, c], _sliding(conn))), table=False,
+    ),
+    MetricFamily(
+        "slip", "m", "peak irreversible slip reported by the law", BEARINGS,
+        _bearing_family(lambda r, c, conn: _norm(r[f"{BEARINGS}.slip"][:, c], _sliding(conn))),
+    ),
+    MetricFamily(
+        "friction_ratio", "-",
+        f"maximum abs(F)/N in the sliding directions while N > {MIN_NORMAL_FRACTION:.0%} of its dead-load value",
+        BEARINGS, _bearing_family(lambda r, c, conn: r.friction_ratio[:, c]),
+        note=(f"abs(F)/N only while the bearing is pressed with more than {MIN_NORMAL_FRACTION:.0%} of its dead-load "
+              "normal force: near uplift the ratio grows without bound while the force is tiny (NaN there, in the "
+              "histories too)"),
+    ),
+    MetricFamily(
+        "deck_acceleration", "m/s^2", "peak absolute deck acceleration", DECK, _deck_acceleration,
+    ),
+)
 
 
 def reduce_result(
-    result: TransientResult, model: Model, elements: tuple[str, ...], deck_nodes: tuple[str, ...]
+    result: TransientResult | Mapping, model: Model, elements: tuple[str, ...], deck_nodes: tuple[str, ...],
+    families: Mapping[str, MetricFamily] | None = None,
 ) -> tuple[dict[str, np.ndarray], dict[str, dict]]:
     """``(histories, metrics)`` of a transient result recorded with :func:`recorders`.
 
-    ``histories``: ``time``; ``stress.<e>``, ``stress_dynamic.<e>`` and ``stress_increase.<e>`` (the
-    maximum over the element's points and ends at each instant, Pa); ``bearings.force``,
-    ``.displacement``, ``.slip`` (t, connectors, 3 local directions), ``.normal_force``,
-    ``.friction_ratio`` (t, connectors; NaN where it is not defined); ``deck.acceleration`` (t, nodes, 3). ``metrics``: ``{name: {"value", "time",
-    "at"}}`` in family order (module docstring); NaN where a metric does not apply.
+    ``families``: the metric families to measure (default: the registered ones), each where the
+    structure records what it reads. ``histories``: ``time``; each family's own histories
+    (``stress.<e>``, ... the maximum over the element's points and ends at each instant, Pa);
+    :meth:`CellResponse.histories`. ``metrics``: ``{name: {"value", "unit", "time", "at"}}``
+    in family order, items in their order; NaN where a metric does not apply.
     """
-    histories: dict[str, np.ndarray] = {"time": result.time}
+    families = metric_families() if families is None else families
+    response = CellResponse(result, model, elements, deck_nodes)
+    histories: dict[str, np.ndarray] = {"time": response.sample_time}
     metrics: dict[str, dict] = {}
-    if elements:
-        _stresses(result, model, elements, histories, metrics)
-        histories["time"] = result[f"{_SECTIONS}.time"]
-    if model.connectors:
-        _bearings(result, model, histories, metrics)
-        histories["time"] = result[f"{_BEARINGS}.time"]
-    if deck_nodes:
-        _deck(result, deck_nodes, histories, metrics)
-    order = {family: i for i, family in enumerate(FAMILIES)}
-    ordered = sorted(metrics, key=lambda m: order[metric_family(m)])  # stable: items keep their order
-    return histories, {m: metrics[m] for m in ordered}
+    for family in families.values():
+        if not response.records(family.reads):
+            continue
+        for item, peak in family.reduce(response).items():
+            metrics[f"{family.name}.{item}"] = peak.entry(family.unit)
+            if peak.history is not None:
+                histories[f"{family.name}.{item}"] = peak.history
+    histories.update(response.histories())
+    return histories, metrics

@@ -2,8 +2,8 @@
 
 One line on stderr, rewritten in place on a terminal (a new line per cell otherwise, so that logs
 stay readable). The ETA weighs what is left by model: cells of one model cost about the same
-(the same laws, the same record length), while models can differ a lot (a Bouc-Wen cell may take
-a hundred times an elastic one); a model with no finished cell yet counts at the mean of all
+(the same laws, the same record length), while models can differ a lot (a smooth hysteretic law's
+cell may take a hundred times an elastic one's); a model with no finished cell yet counts at the mean of all
 finished cells. The remaining work is shared by the workers.
 """
 

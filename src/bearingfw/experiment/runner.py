@@ -1,17 +1,23 @@
 """Running an experiment: check it, run the cells that are not finished, then write the matrices,
-figures and report from everything the store holds.
+findings, figures and report from everything the store holds.
 
 :func:`run_experiment` is what ``bearingfw run`` calls. Steps:
 
-1. check the experiment against the installed plugins and the user's code: every model is
-   built (its laws created), the records are read, the recorded elements, nodes and bearings
-   exist (a problem is a :class:`~bearingfw.experiment.spec.SpecError` naming the key);
+1. :func:`check_experiment`: check the experiment against the installed plugins and the user's
+   code: every model is built (its laws and preset found), the records are read, the recorded
+   elements, nodes and bearings exist, so do the items the table, the figures and the findings
+   name (a problem is a :class:`~bearingfw.experiment.spec.SpecError` naming the key and listing
+   what exists); the intensities and the damping that depend on the structure's modes are
+   resolved;
 2. plan the cells and their digests; take the results directory (a lock: one run at a time;
-   and it must hold this experiment, :meth:`~bearingfw.experiment.store.Store.claim`); keep the
-   finished cells (unless ``force``), thin the stored histories where only ``[output] every``
-   grew, run the others on the executor (each is committed to the store as it finishes);
-3. read every cell back from the store, build the matrices (``matrices.json``, CSVs), the
-   records' measures, the modal results of each model, the figures and ``report.md``.
+   and it must hold this experiment, :meth:`~bearingfw.experiment.store.Store.claim`);
+   :func:`_work`: keep the finished cells (unless ``force``), thin the stored histories where only
+   ``[output] every`` grew, and run the others on the executor (each is committed to the store as
+   it finishes);
+3. :func:`_post_process`, from the store: :func:`_results` reads every cell back and writes the
+   matrices (``matrices.json``, CSVs, ``units.json``), the records' measures and the modal results
+   of each model; the findings are checked on the matrices; :func:`_draw` draws the figures and
+   :func:`_write_report` writes ``report.md``.
 
 Only the cells run; everything after is rebuilt from the store each time, so a rerun after an
 interruption gives the same files as an uninterrupted run.
@@ -20,22 +26,24 @@ interruption gives the same files as an uninterrupted run.
 from __future__ import annotations
 
 import datetime
+import math
 import platform
 import time
+from collections.abc import Mapping
 from pathlib import Path
 
 import attrs
 
-from bearingfw.analysis import solve_modal
+from bearingfw.analysis import Rayleigh, solve_modal
+from bearingfw.bridges import find_preset
 from bearingfw.experiment.cells import CellJob, plan_cells, recording
-from bearingfw.experiment.default import DEFAULT_TABLE
 from bearingfw.experiment.executors import ProcessExecutor, local_workers
-from bearingfw.experiment.findings import Finding, paper_findings
-from bearingfw.experiment.matrices import Matrices, collect_matrices, write_matrices
-from bearingfw.experiment.metrics import FAMILIES, STRESS_FAMILIES, metric_family
+from bearingfw.experiment.findings import Finding, check_findings
+from bearingfw.experiment.matrices import Matrices, collect_matrices, units_table, write_matrices
+from bearingfw.experiment.metrics import BEARINGS, DECK, DIRECTIONS, SECTIONS, MetricFamily, metric_families
 from bearingfw.experiment.progress import Progress, format_duration
 from bearingfw.experiment.records import load_record, record_info, scaled_record
-from bearingfw.experiment.spec import Experiment, SpecError, key_path
+from bearingfw.experiment.spec import Experiment, Intensity, SpecError, key_path
 from bearingfw.experiment.store import Store
 from bearingfw.experiment.structure import (
     build_model,
@@ -43,14 +51,15 @@ from bearingfw.experiment.structure import (
     governed_bearings,
     import_paths,
     registry_for,
+    resolved_setup,
     response_elements,
 )
-from bearingfw.model import as_system
+from bearingfw.model import Model, as_system
 from bearingfw.motion import UnknownScaleError, get_scale
 from bearingfw.parameters import ParameterError
-from bearingfw.plugins import UnknownLawError, create_law
+from bearingfw.plugins import Registry, UnknownLawError, create_law
 
-__all__ = ["RunSummary", "check_experiment", "default_output", "run_experiment"]
+__all__ = ["Checked", "RunSummary", "check_experiment", "default_output", "default_table", "run_experiment"]
 
 #: Modes per model in the report.
 MODAL_MODES = 8
@@ -63,32 +72,107 @@ def default_output(experiment: Experiment) -> Path:
 
 @attrs.frozen
 class Checked:
-    """What the check found out, reused by the run: models, systems, recorded items, records."""
+    """What the check found out, reused by the run: the registry, models, systems, recorded items
+    (``items``: each metric family's items on this structure), records, the resolved intensities
+    and damping, and the table."""
 
+    registry: Registry
     models: dict
     systems: dict
     elements: tuple[str, ...]
     nodes: tuple[str, ...]
     bearings: tuple[str, ...]
     records: dict
+    intensities: tuple[Intensity, ...]
+    rayleigh: Rayleigh
+    families: dict
+    items: dict
     table: tuple[str, ...]
 
+    @property
+    def connectors(self) -> tuple[str, ...]:
+        return tuple(c.name for c in next(iter(self.models.values())).connectors)
 
-def _table(experiment: Experiment, elements, nodes, connectors) -> tuple[str, ...]:
-    items = {f: elements if f in STRESS_FAMILIES else connectors for f in FAMILIES}
-    items["deck_acceleration"] = ("x", "y", "z") if nodes else ()
-    if not experiment.output.table:
-        return tuple(m for m in DEFAULT_TABLE if m.partition(".")[2] in items[metric_family(m)])
-    for metric in experiment.output.table:
-        family, _, item = metric.partition(".")
-        if family not in FAMILIES:
-            raise SpecError(
-                f"output.table: {metric!r}: unknown metric family {family!r}; families: {', '.join(FAMILIES)}"
-            )
-        if item not in items[family]:
-            raise SpecError(f"output.table: {metric!r}: {item!r} is not recorded; {family} has "
-                            f"{', '.join(items[family]) or 'nothing'}")
-    return experiment.output.table
+
+# ---- step 1: the check -------------------------------------------------------------------------------------
+def family_items(families: Mapping[str, MetricFamily], elements, nodes, connectors) -> dict[str, tuple[str, ...]]:
+    """The items of each metric family on a structure recording ``elements``, ``nodes`` and ``connectors``."""
+    by_reads = {SECTIONS: tuple(elements), BEARINGS: tuple(connectors), DECK: DIRECTIONS if nodes else ()}
+    return {name: by_reads[family.reads] for name, family in families.items()}
+
+
+def _check_metric(key: str, metric: str, items: Mapping[str, tuple[str, ...]]) -> None:
+    family, _, item = metric.partition(".")
+    if family not in items:
+        raise SpecError(f"{key}: {metric!r}: unknown metric family {family!r}; families: {', '.join(items)}")
+    if item not in items[family]:
+        raise SpecError(f"{key}: {metric!r}: {item!r} is not recorded; {family} has "
+                        f"{', '.join(items[family]) or 'nothing (the structure records none of its items)'}")
+
+
+def default_table(experiment: Experiment, families: Mapping[str, MetricFamily], items: Mapping, bearings) -> tuple:
+    """The table when ``[output] table`` is not given: the families shown by default (``table``), at the
+    figures' elements (else every response element), the figures' bearing (else the first governed
+    bearing) and every direction; only items the structure has."""
+    elements = experiment.figures.elements
+    bearing = experiment.figures.bearing or next(iter(bearings), None)
+    out = []
+    for name, family in families.items():
+        if not family.table:
+            continue
+        chosen = {SECTIONS: elements if elements is not None else items[name],
+                  BEARINGS: (bearing,) if bearing is not None else (), DECK: items[name]}[family.reads]
+        out += [f"{name}.{item}" for item in chosen if item in items[name]]
+    return tuple(out)
+
+
+def _check_models(experiment: Experiment, registry: Registry) -> tuple[dict, dict]:
+    models, systems = {}, {}
+    for spec in experiment.models:
+        if spec.preset is not None:
+            try:
+                find_preset(spec.preset, registry)
+            except ParameterError as exc:
+                raise SpecError(f"{key_path('models', spec.name, 'preset')}: {exc}") from None
+        if spec.law is not None:  # the law and its parameters first, so that the message names the key
+            try:
+                create_law(spec.law, registry=registry, **spec.params)
+            except UnknownLawError as exc:
+                raise SpecError(f"{key_path('models', spec.name, 'law')}: {exc}") from None
+            except ParameterError as exc:
+                raise SpecError(f"{key_path('models', spec.name, 'params')}: {exc}") from None
+        try:
+            models[spec.name] = build_model(experiment, spec, registry)
+            systems[spec.name] = as_system(models[spec.name], registry)
+        except SpecError:
+            raise
+        except (ParameterError, KeyError, TypeError, ValueError) as exc:
+            message = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+            raise SpecError(f"{key_path('models', spec.name)}: {message}") from None
+    return models, systems
+
+
+def _check_records(experiment: Experiment, registry: Registry) -> dict:
+    records = {}
+    for spec in experiment.records:
+        try:
+            records[spec.name] = load_record(experiment, spec, registry)
+        except SpecError:
+            raise
+        except (ValueError, KeyError, OSError, RuntimeError) as exc:  # unreadable, unknown reader, no realisation
+            raise SpecError(f"{key_path('records', spec.name)}: {exc}") from None
+    return records
+
+
+def _check_figures(experiment: Experiment, elements, connectors) -> None:
+    figures = experiment.figures
+    for name in figures.elements or ():
+        if name not in elements:
+            raise SpecError(f"figures.elements: {name!r} is not a response element; they are "
+                            f"{', '.join(elements) or 'none ([structure] elements)'}")
+    if figures.bearing is not None and figures.bearing not in connectors:
+        raise SpecError(f"figures.bearing: the model has no connector {figures.bearing!r}; it has "
+                        f"{', '.join(connectors) or 'none'}")
 
 
 def check_experiment(experiment: Experiment) -> Checked:
@@ -102,46 +186,27 @@ def check_experiment(experiment: Experiment) -> Checked:
         get_scale(experiment.intensities.scale, registry)
     except UnknownScaleError as exc:
         raise SpecError(f"intensities.scale: {exc}") from None
-    models, systems = {}, {}
-    for spec in experiment.models:
-        if spec.law is not None:  # the law and its parameters first, so that the message names the key
-            try:
-                create_law(spec.law, registry=registry, **spec.params)
-            except UnknownLawError as exc:
-                raise SpecError(f"{key_path('models', spec.name, 'law')}: {exc}") from None
-            except ParameterError as exc:
-                raise SpecError(f"{key_path('models', spec.name, 'params')}: {exc}") from None
-        try:
-            models[spec.name] = build_model(experiment.structure, spec, registry, paths)
-            systems[spec.name] = as_system(models[spec.name], registry)
-        except SpecError:
-            raise
-        except (ParameterError, KeyError, TypeError, ValueError) as exc:
-            message = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
-            raise SpecError(f"{key_path('models', spec.name)}: {message}") from None
+    models, systems = _check_models(experiment, registry)
     first = next(iter(models.values()))
     elements = response_elements(experiment.structure, first)
     nodes = deck_nodes(experiment.structure, first)
-    bearings = governed_bearings(experiment.structure, first) if not experiment.structure.is_reference else ()
+    bearings = governed_bearings(experiment.structure, first)
     connectors = tuple(c.name for c in first.connectors)
-    figures = experiment.figures
-    for name in figures.elements or ():
-        if name not in elements:
-            raise SpecError(f"figures.elements: {name!r} is not a response element; they are {', '.join(elements)}")
-    if figures.bearing is not None and figures.bearing not in connectors:
-        raise SpecError(f"figures.bearing: the model has no connector {figures.bearing!r}")
-    records = {}
-    for spec in experiment.records:
-        try:
-            records[spec.name] = load_record(experiment, spec, registry)
-        except SpecError:
-            raise
-        except (ValueError, KeyError, OSError, RuntimeError) as exc:  # unreadable, unknown reader, no realisation
-            raise SpecError(f"{key_path('records', spec.name)}: {exc}") from None
-    table = _table(experiment, elements, nodes, connectors)
-    return Checked(models, systems, elements, nodes, bearings, records, table)
+    _check_figures(experiment, elements, connectors)
+    records = _check_records(experiment, registry)
+    intensities, rayleigh = resolved_setup(experiment, registry)
+    families = metric_families(registry)
+    items = family_items(families, elements, nodes, connectors)
+    for metric in experiment.output.table:
+        _check_metric("output.table", metric, items)
+    for k, finding in enumerate(experiment.findings, start=1):
+        _check_metric(f"findings[{k}].metric", finding.metric, items)
+    table = experiment.output.table or default_table(experiment, families, items, bearings)
+    return Checked(registry, models, systems, elements, nodes, bearings, records, intensities, rayleigh,
+                   families, items, table)
 
 
+# ---- step 2: the cells -----------------------------------------------------------------------------------
 @attrs.frozen
 class RunSummary:
     """What a run did (``bearingfw run --json`` prints it)."""
@@ -175,114 +240,58 @@ class RunSummary:
         data["failed"] = [{"id": i, "error": e} for i, e in self.failed]
         data["findings"] = [attrs.asdict(f) for f in self.findings]
         data["exit_code"] = self.exit_code
+        data["units"] = {"wall_time": "s", "run_time": "s"}
         return data
 
 
-def _documents(store: Store, jobs: list[CellJob]) -> list[dict | None]:
-    """Each planned cell's document if it is stored for the current inputs (else None)."""
-    out = []
-    for job in jobs:
-        d = store.read_cell(job.id)
-        out.append(d if d is not None and d.get("digest") == job.digest else None)
-    return out
+@attrs.frozen
+class _Work:
+    """The planned cells, those wanted by this run, and what becomes of each."""
+
+    jobs: list
+    todo: list
+    skipped: tuple[str, ...]
+    thinned: tuple[str, ...]
 
 
-def _records_info(experiment: Experiment, checked: Checked, registry) -> tuple[dict, list]:
-    scale = get_scale(experiment.intensities.scale, registry)
-    info, points = {}, []
-    for spec in experiment.records:
-        record = checked.records[spec.name]
-        entry = record_info(record, spec.components, scale)
-        entry["intensities"] = {}
-        for intensity in experiment.intensity_list:
-            try:
-                scaled = scaled_record(record, intensity, experiment.intensities,
-                                       experiment.integration.dt_integration, registry)
-                measures = record_info(scaled, spec.components, scale)
-                entry["intensities"][intensity.name] = {
-                    k: measures[k] for k in ("scale_factor", "pga_h10", "t_ha", "arias", "degree")
-                }
-                points.append((f"{spec.name} {intensity.name}", measures["t_ha"], measures["pga_h10"]))
-            except ValueError as exc:  # e.g. the scaled record is not of the level's degree
-                entry["intensities"][intensity.name] = {"error": str(exc)}
-        info[spec.name] = entry
-    return info, points
+def _check_selection(experiment: Experiment, checked: Checked, models, intensities) -> None:
+    for field, given, known in (("--only", models, experiment.model_names),
+                                ("--levels", intensities, tuple(i.name for i in checked.intensities))):
+        bad = [g for g in (given or ()) if g not in known]
+        if bad:
+            raise SpecError(f"{field}: {bad[0]!r} is not in the experiment; it has {', '.join(known)}")
 
 
-def _modal(experiment: Experiment, checked: Checked) -> dict:
-    """The lowest modes of each model; on the reference bridge also the paper's Table 2 modes as its
-    deck sensors see them (:mod:`bearingfw.bridges.study`), so that step 1 of the tuning shows."""
-    reference = experiment.structure.is_reference
-    if reference:
-        from bearingfw.bridges.paper import MODES
-        from bearingfw.bridges.study import N_MODES, deck_observation
-        from bearingfw.experiment.structure import bridge_parameters
-        from bearingfw.tuning import observed_modes
-
-        observation = deck_observation(bridge_parameters(experiment.structure))
-    out = {}
-    for name, system in checked.systems.items():
-        try:
-            modal = solve_modal(system, max(MODAL_MODES, N_MODES) if reference else MODAL_MODES)
-        except Exception as exc:  # noqa: BLE001 - a model whose modes fail still gets its report
-            out[name] = {"error": f"{type(exc).__name__}: {exc}"}
+def _work(store: Store, jobs: list[CellJob], every: int | None, force: bool, models, intensities) -> _Work:
+    """Which of the wanted cells to compute, keep, or keep with thinned histories (module docstring, step 2)."""
+    wanted = [j for j in jobs
+              if (not models or j.model in models) and (not intensities or j.intensity.name in intensities)]
+    todo, thinned = [], []
+    for j in wanted:
+        if force:
+            todo.append(j)
+        elif store.is_finished(j.id, j.digest, every):
             continue
-        ratios = modal.mass_ratios
-        out[name] = {"modes": [
-            {"frequency": float(modal.frequencies[k]), "label": modal.numbered_labels[k],
-             "mass_ratio": {d: float(ratios[d][k]) for d in ("x", "y", "z")}}
-            for k in range(min(MODAL_MODES, modal.n_modes))
-        ]}
-        if reference:
-            seen = observed_modes(modal, observation).numbered
-            out[name]["deck"] = {mode: float(modal.frequencies[seen[mode]]) for mode in MODES if mode in seen}
-    return out
+        elif every is not None and store.is_finished(j.id, j.digest, None) and store.rethin(j.id, j.digest, every):
+            thinned.append(j.id)  # only the recorded histories changed: cut from the stored ones
+        else:
+            todo.append(j)
+    todo_ids = {j.id for j in todo}
+    return _Work(jobs, todo, tuple(j.id for j in wanted if j.id not in todo_ids), tuple(thinned))
 
 
-def _figure_plan(experiment: Experiment, checked: Checked, chart) -> dict:
-    figures = experiment.figures
-    models = experiment.model_names
-    connectors = [c.name for c in next(iter(checked.models.values())).connectors]
-    reference = experiment.structure.is_reference
-    if figures.bearing is not None:
-        bearing = figures.bearing
-    elif reference:
-        bearing = "3B"
-    else:
-        bearing = (checked.bearings or connectors or (None,))[0]
-    compare = figures.compare or (tuple(m for m in ("M1", "M2") if m in models) if {"M1", "M2"} <= set(models)
-                                  else models)
-    return {
-        "records": {r.name: checked.records[r.name].synthetic for r in experiment.records},
-        "intensities": figures.intensities or tuple(i.name for i in experiment.intensity_list),
-        "models": models,
-        "elements": figures.elements if figures.elements is not None else
-        (tuple(e for e in ("S1", "3B") if e in checked.elements) if reference else checked.elements[:2]),
-        "bearing": bearing,
-        "compare": compare,
-        "mu": {m.name: m.friction_coefficient for m in experiment.models},
-        "hysteresis": figures.hysteresis,
-        "table": checked.table,
-        "chart": chart,
-    }
+def _write_manifest(store: Store, experiment: Experiment, executor, jobs, every, state: str) -> None:
+    from bearingfw import __version__
 
-
-def _draw(experiment: Experiment, checked: Checked, store: Store, matrices: Matrices, points, registry,
-          done: list[dict], executor, progress: Progress) -> list:
-    """The figures, from the histories stored for the current inputs of the finished cells ``done``."""
-    from bearingfw.experiment.figures import write_figures
-    from bearingfw.motion.plot import plot_intensity_chart
-
-    synthetic = next((checked.records[r] for r in experiment.record_names if checked.records[r].synthetic), None)
-    scale = get_scale(experiment.intensities.scale, registry)
-    chart = (points, lambda: plot_intensity_chart(points, scale, record=synthetic))
-    every = recording(experiment)
-    # A cell kept from an earlier run (--only, --levels) may hold histories of other inputs or thinning.
-    cells = {(d["model"], d["record"], d["intensity"]): d for d in done
-             if d.get("status") == "ok" and store.is_finished(d["id"], d["digest"], every)}
-    workers = local_workers(executor)
-    progress.note(f"drawing the figures ({workers} process(es))")
-    return write_figures(store, {**_figure_plan(experiment, checked, chart), "every": every}, matrices, cells, workers)
+    finished = {j.id for j in jobs if store.is_finished(j.id, j.digest, every)}
+    store.write_json("manifest.json", {
+        "experiment": experiment.name, "state": state, "bearingfw": __version__,
+        "updated": datetime.datetime.now().isoformat(timespec="seconds"),
+        "host": platform.node(), "executor": executor.name, "workers": executor.workers,
+        "recording": {"histories": every is not None, "every": every},
+        "cells": [{"id": j.id, "digest": j.digest, "finished": j.id in finished,
+                   "files": [f"cells/{j.id}.json", f"cells/{j.id}.npz"]} for j in jobs],
+    })
 
 
 def run_experiment(
@@ -298,7 +307,7 @@ def run_experiment(
 ) -> RunSummary:
     """Run ``experiment`` into ``out`` (default :func:`default_output`) and write its results.
 
-    ``executor``: an object of :mod:`bearingfw.experiment.executors` (default: local processes on
+    ``executor``: an executor (:mod:`bearingfw.experiment.executors`; default: local processes on
     every core). ``force``: recompute finished cells too. ``models``, ``intensities``: run only
     these cells (the matrices still show every finished cell). ``take_over``: run even into a
     directory that holds another experiment's results, or other files
@@ -310,103 +319,196 @@ def run_experiment(
     progress = progress or Progress(quiet=True)
     store = Store(out or default_output(experiment))
     checked = check_experiment(experiment)
-    registry = registry_for(experiment.plugins, import_paths(experiment))
-    for field, given, known in (("--only", models, experiment.model_names),
-                                ("--levels", intensities, tuple(i.name for i in experiment.intensity_list))):
-        bad = [g for g in (given or ()) if g not in known]
-        if bad:
-            raise SpecError(f"{field}: {bad[0]!r} is not in the experiment; it has {', '.join(known)}")
-    jobs = plan_cells(experiment, registry, checked.models)
+    _check_selection(experiment, checked, models, intensities)
+    jobs = plan_cells(experiment, checked.registry, checked.models, (checked.intensities, checked.rayleigh))
+    every = recording(experiment)
     with store.claim(experiment.name, take_over):
         store.clean_temporaries()
         store.write_text("experiment.toml", experiment.source)
-        wanted = [j for j in jobs
-                  if (not models or j.model in models) and (not intensities or j.intensity.name in intensities)]
-        every = recording(experiment)
-        todo, thinned = [], []
-        for j in wanted:
-            if force:
-                todo.append(j)
-            elif store.is_finished(j.id, j.digest, every):
-                continue
-            elif every is not None and store.is_finished(j.id, j.digest, None) and store.rethin(j.id, j.digest, every):
-                thinned.append(j.id)  # only the recorded histories changed: cut from the stored ones
-            else:
-                todo.append(j)
-        todo_ids = {j.id for j in todo}
-        skipped = tuple(j.id for j in wanted if j.id not in todo_ids)
-
-        def manifest(state: str) -> None:
-            from bearingfw import __version__
-
-            finished = {j.id for j in jobs if store.is_finished(j.id, j.digest, every)}
-            store.write_json("manifest.json", {
-                "experiment": experiment.name, "state": state, "bearingfw": __version__,
-                "updated": datetime.datetime.now().isoformat(timespec="seconds"),
-                "host": platform.node(), "executor": executor.name, "workers": executor.workers,
-                "recording": {"histories": every is not None, "every": every},
-                "cells": [{"id": j.id, "digest": j.digest, "finished": j.id in finished,
-                           "files": [f"cells/{j.id}.json", f"cells/{j.id}.npz"]} for j in jobs],
-            })
-
-        manifest("running")
-        progress.begin([j.model for j in todo], len(skipped), executor.name,
-                       min(executor.workers, max(1, len(todo))), thinned=len(thinned))
+        work = _work(store, jobs, every, force, models, intensities)
+        _write_manifest(store, experiment, executor, jobs, every, "running")
+        progress.begin([j.model for j in work.todo], len(work.skipped), executor.name,
+                       min(executor.workers, max(1, len(work.todo))), thinned=len(work.thinned))
         run_start = time.perf_counter()
         try:
-            executor.run(todo, store, progress.cell)
+            executor.run(work.todo, store, progress.cell)
         except BaseException:
-            manifest("stopped")
+            _write_manifest(store, experiment, executor, jobs, every, "stopped")
             raise
         run_time = time.perf_counter() - run_start
         try:
-            summary = _post_process(experiment, checked, store, jobs, todo, skipped, tuple(thinned), registry,
-                                    executor, progress, wall, run_time)
+            summary = _post_process(experiment, checked, store, work, executor, progress, wall, run_time)
         except BaseException:
             # The cells are safe in the store; say in the manifest that the summary step did not finish.
-            manifest("post-processing failed")
+            _write_manifest(store, experiment, executor, jobs, every, "post-processing failed")
             raise
         store.write_json("summary.json", summary.to_dict())
-        manifest("finished")
-    progress.finish(f"{len(todo)} cell(s) run in {format_duration(run_time)}, {len(skipped)} kept, "
+        _write_manifest(store, experiment, executor, jobs, every, "finished")
+    progress.finish(f"{len(work.todo)} cell(s) run in {format_duration(run_time)}, {len(work.skipped)} kept, "
                     f"{len(summary.failed)} failed, {len(summary.missing)} not computed; results in {store.root}")
     return summary
 
 
-def _post_process(experiment, checked, store, jobs, todo, skipped, thinned, registry, executor, progress, wall,
-                  run_time) -> RunSummary:
-    """Matrices, records and modal information, figures, report and summary of a run whose cells are done."""
+# ---- step 3: the results -----------------------------------------------------------------------------------
+def _documents(store: Store, jobs: list[CellJob]) -> list[dict | None]:
+    """Each planned cell's document if it is stored for the current inputs (else None)."""
+    out = []
+    for job in jobs:
+        d = store.read_cell(job.id)
+        out.append(d if d is not None and d.get("digest") == job.digest else None)
+    return out
+
+
+def _records_info(experiment: Experiment, checked: Checked) -> tuple[dict, list]:
+    """Each record's measures, as read and at every intensity, and the intensity chart's points."""
+    scale = get_scale(experiment.intensities.scale, checked.registry)
+    info, points = {}, []
+    for spec in experiment.records:
+        record = checked.records[spec.name]
+        entry = record_info(record, spec.components, scale)
+        entry["intensities"] = {}
+        for intensity in checked.intensities:
+            try:
+                scaled = scaled_record(record, intensity, experiment.intensities,
+                                       experiment.integration.dt_integration, checked.registry)
+                measures = record_info(scaled, spec.components, scale)
+                entry["intensities"][intensity.name] = {
+                    k: measures[k] for k in ("scale_factor", "pga_h10", "t_ha", "arias", "degree")
+                }
+                points.append((f"{spec.name} {intensity.name}", measures["t_ha"], measures["pga_h10"]))
+            except ValueError as exc:  # e.g. the scaled record is not of the level's degree
+                entry["intensities"][intensity.name] = {"error": str(exc)}
+        info[spec.name] = entry
+    return info, points
+
+
+def _modal(checked: Checked) -> dict:
+    """The lowest modes of each model (every law at its initial tangent)."""
+    out = {}
+    for name, system in checked.systems.items():
+        try:
+            modal = solve_modal(system, MODAL_MODES)
+        except Exception as exc:  # noqa: BLE001 - a model whose modes fail still gets its report
+            out[name] = {"error": f"{type(exc).__name__}: {exc}"}
+            continue
+        ratios = modal.mass_ratios
+        out[name] = {"modes": [
+            {"frequency": float(modal.frequencies[k]), "label": modal.numbered_labels[k],
+             "mass_ratio": {d: float(ratios[d][k]) for d in DIRECTIONS}}
+            for k in range(min(MODAL_MODES, modal.n_modes))
+        ]}
+    return out
+
+
+@attrs.frozen(eq=False)
+class _Results:
+    """What the store holds for the planned cells, and the files written from it."""
+
+    documents: list
+    done: list
+    failed: tuple
+    missing: tuple
+    matrices: Matrices
+    records: dict
+    points: list
+    modal: dict
+    files: dict
+
+
+def _results(experiment: Experiment, checked: Checked, store: Store, jobs: list[CellJob]) -> _Results:
+    """Read every cell back; write the matrices, units, records' measures and modal results."""
     documents = _documents(store, jobs)
     done = [d for d in documents if d is not None]
     failed = tuple((d["id"], (d.get("error") or {}).get("message", "")) for d in done if d.get("status") != "ok")
     missing = tuple(j.id for j, d in zip(jobs, documents) if d is None)
     matrices = collect_matrices(done, experiment.model_names, experiment.record_names,
-                                tuple(i.name for i in experiment.intensity_list), experiment.reference_model,
-                                experiment.output.aggregate)
+                                tuple(i.name for i in checked.intensities), experiment.reference_model,
+                                experiment.output.aggregate, checked.families)
     write_matrices(store, matrices, done)
     files = {name: str(store.path(name))
              for name in ("matrices.json", "ratios.json", "matrices", "ratios", "cells.csv")}
-    records, points = _records_info(experiment, checked, registry)
-    modal = _modal(experiment, checked)
+    files["units.json"] = str(store.write_json("units.json", units_table(matrices)))
+    records, points = _records_info(experiment, checked)
+    modal = _modal(checked)
     files["records.json"] = str(store.write_json("records.json", records))
     files["modal.json"] = str(store.write_json("modal.json", modal))
-    mu = experiment.model("M2").friction_coefficient if "M2" in experiment.model_names else None
-    findings = tuple(paper_findings(matrices, mu or 0.04))
-    # The figures draw the cells' histories: without stored histories there is nothing to draw.
-    draw = experiment.figures.draw and experiment.output.histories
-    figures = _draw(experiment, checked, store, matrices, points, registry, done, executor, progress) if draw else []
-    files["figures"] = [str(p) for p in figures]
+    return _Results(documents, done, failed, missing, matrices, records, points, modal, files)
+
+
+def _friction_coefficient(experiment: Experiment, model: Model, name: str, bearing: str | None) -> float | None:
+    """The mu of a model at ``bearing`` (the friction figure's line): its law's ``mu``, else the model's ``friction``."""
+    if bearing is not None:
+        value = dict(model.connector(bearing).law_params).get("mu")
+        if isinstance(value, float | int) and not isinstance(value, bool) and math.isfinite(value):
+            return float(value)
+    return experiment.model(name).friction
+
+
+def figure_plan(experiment: Experiment, checked: Checked, chart) -> dict:
+    """What :func:`~bearingfw.experiment.figures.write_figures` draws: ``[figures]`` with its defaults
+    filled in from the structure (the first two response elements, the first governed bearing, all models)."""
+    figures = experiment.figures
+    bearing = figures.bearing or next(iter(checked.bearings or checked.connectors), None)
+    return {
+        "records": {r.name: checked.records[r.name].synthetic for r in experiment.records},
+        "intensities": figures.intensities or tuple(i.name for i in checked.intensities),
+        "models": experiment.model_names,
+        "elements": figures.elements if figures.elements is not None else checked.elements[:2],
+        "bearing": bearing,
+        "compare": figures.compare or experiment.model_names,
+        "mu": {name: _friction_coefficient(experiment, model, name, bearing) for name, model in checked.models.items()},
+        "hysteresis": figures.hysteresis,
+        "table": checked.table,
+        "chart": chart,
+    }
+
+
+def _draw(experiment: Experiment, checked: Checked, store: Store, results: _Results, executor,
+          progress: Progress) -> list:
+    """The figures, from the histories stored for the current inputs of the finished cells."""
+    from bearingfw.experiment.figures import write_figures
+    from bearingfw.motion.plot import plot_intensity_chart
+
+    if not (experiment.figures.draw and experiment.output.histories):
+        return []  # the figures draw the cells' histories: without stored histories there is nothing to draw
+    synthetic = next((checked.records[r] for r in experiment.record_names if checked.records[r].synthetic), None)
+    scale = get_scale(experiment.intensities.scale, checked.registry)
+    points = results.points
+    chart = (points, lambda: plot_intensity_chart(points, scale, record=synthetic))
+    every = recording(experiment)
+    # A cell kept from an earlier run (--only, --levels) may hold histories of other inputs or thinning.
+    cells = {(d["model"], d["record"], d["intensity"]): d for d in results.done
+             if d.get("status") == "ok" and store.is_finished(d["id"], d["digest"], every)}
+    workers = local_workers(executor)
+    progress.note(f"drawing the figures ({workers} process(es))")
+    plan = {**figure_plan(experiment, checked, chart), "every": every}
+    return write_figures(store, plan, results.matrices, cells, workers)
+
+
+def _write_report(experiment: Experiment, checked: Checked, store: Store, jobs, results: _Results, summary,
+                  figures) -> Path:
+    from bearingfw.experiment.report import ReportData, render_report
+
+    data = ReportData(
+        experiment, store.root, summary, results.matrices, checked.table,
+        tuple((j.id, d) for j, d in zip(jobs, results.documents)), results.records, results.modal, tuple(figures),
+        summary.findings, checked.intensities, checked.rayleigh, checked.elements, checked.families,
+    )
+    return store.write_text("report.md", render_report(data))
+
+
+def _post_process(experiment: Experiment, checked: Checked, store: Store, work: _Work, executor,
+                  progress: Progress, wall: float, run_time: float) -> RunSummary:
+    """Matrices, records and modal information, findings, figures, report and summary of a run whose cells are done."""
+    results = _results(experiment, checked, store, work.jobs)
+    findings = check_findings(experiment.findings, results.matrices)
+    figures = _draw(experiment, checked, store, results, executor, progress)
+    files = {**results.files, "figures": [str(p) for p in figures]}
     summary = RunSummary(
-        experiment.name, str(store.root), executor.name, executor.workers, len(jobs), tuple(j.id for j in todo),
-        skipped, failed, missing, time.perf_counter() - wall, run_time, files, findings, matrices, checked.table,
-        thinned,
+        experiment.name, str(store.root), executor.name, executor.workers, len(work.jobs),
+        tuple(j.id for j in work.todo), work.skipped, results.failed, results.missing, time.perf_counter() - wall,
+        run_time, files, findings, results.matrices, checked.table, work.thinned,
     )
     if experiment.output.report:
-        from bearingfw.experiment.report import ReportData, render_report
-
-        data = ReportData(
-            experiment, store.root, summary, matrices, checked.table, tuple((j.id, d) for j, d in zip(jobs, documents)),
-            records, modal, tuple(figures), findings, tuple(paper_findings(matrices, mu or 0.04, family="stress")),
-        )
-        files["report.md"] = str(store.write_text("report.md", render_report(data)))
+        files["report.md"] = str(_write_report(experiment, checked, store, work.jobs, results, summary, figures))
     return attrs.evolve(summary, wall_time=time.perf_counter() - wall)

@@ -1,23 +1,23 @@
 """The experiment description: validated attrs classes, loaded from a TOML file.
 
-An experiment is a TOML file (see :data:`bearingfw.experiment.default.DEFAULT_TOML`, printed
-by ``bearingfw run --print-default``, for every table with comments). Its tables map onto the
-classes below: ``[structure]`` :class:`StructureSpec`, ``[models.<name>]`` :class:`ModelSpec`,
-``[records.<name>]`` :class:`RecordSpec`, ``[intensities]`` :class:`IntensitySpec`,
-``[integration]`` :class:`bearingfw.analysis.TransientSettings` (the transient solver's own
-settings, field for field), ``[damping]`` :class:`DampingSpec`, ``[output]`` :class:`OutputSpec`
-and ``[figures]`` :class:`FigureSpec`.
+An experiment is a TOML file (the built-in one, printed by ``bearingfw run --print-default``,
+shows every table with comments). Its tables map onto the classes below: ``[structure]``
+:class:`StructureSpec`, ``[models.<name>]`` :class:`ModelSpec`, ``[records.<name>]``
+:class:`RecordSpec`, ``[intensities]`` :class:`IntensitySpec`, ``[integration]``
+:class:`bearingfw.analysis.TransientSettings` (the transient solver's own settings, field for
+field), ``[damping]`` :class:`DampingSpec`, ``[output]`` :class:`OutputSpec`, ``[figures]``
+:class:`FigureSpec` and each ``[[findings]]`` a :class:`FindingSpec`.
 
 Loading checks the *form* of the file, with the key's path in every message: an unknown key
-(``models.M2.mu: unknown key; allowed here: preset, ks, friction, law, params``), a wrong type or
-a value out of range (``integration.alpha: ...``). What needs the installed plugins or the user's
-code (does the law exist, does the builder import, do the record files exist) is checked when the
-experiment runs (:func:`bearingfw.experiment.structure.check_experiment`).
+(``models.A.mu: unknown key; allowed here: preset, ks, friction, law, params``), a wrong type or
+a value out of range (``integration.alpha: ...``), a name that is not in the file (a finding's
+model). What needs the installed plugins or the user's code (does the law or the preset exist,
+does the builder import, do the record files and the named elements exist) is checked when the
+experiment runs (:func:`bearingfw.experiment.runner.check_experiment`).
 """
 
 from __future__ import annotations
 
-import math
 import numbers
 import re
 import tomllib
@@ -28,18 +28,30 @@ from typing import Any
 import attrs
 
 from bearingfw.analysis import TransientSettings
-from bearingfw.bridges import PRESETS
-from bearingfw.bridges.paper import DAMPING_RATIOS
-from bearingfw.motion import LEVEL_NAMES, ROLES, IntensityLevels, level_name
+from bearingfw.experiment.fields import (
+    NAME,
+    SpecError,
+    flag_field,
+    listish,
+    names_field,
+    reals,
+    reals_field,
+    table_field,
+    text_field,
+)
+from bearingfw.motion import AXES, LEVEL_NAMES, ROLES, IntensityLevels, ScaleTarget, level_name
 from bearingfw.parameters import ParameterError, choice, integer_parameter, parameter
+from bearingfw.structures import REFERENCE
 
 __all__ = [
     "AGGREGATES",
+    "AS_RECORDED",
     "COMPONENT_CHOICES",
-    "REFERENCE_BUILDER",
+    "FINDING_TESTS",
     "DampingSpec",
     "Experiment",
     "FigureSpec",
+    "FindingSpec",
     "Intensity",
     "IntensitySpec",
     "ModelSpec",
@@ -53,162 +65,67 @@ __all__ = [
     "parse_experiment",
 ]
 
-#: ``[structure] builder`` of the paper's reference bridge (:mod:`bearingfw.bridges`).
-REFERENCE_BUILDER = "reference"
 #: What a record component can be mapped to (``-`` flips the sign, ``0`` drops the direction).
 COMPONENT_CHOICES = (*ROLES, *(f"-{r}" for r in ROLES), "0")
 #: How the matrices combine several records: EN 1998-1 4.3.3.4.3 takes the mean of at least seven
 #: records and the most unfavourable value of fewer ("ec8"); or always "max" or "mean".
 AGGREGATES = ("ec8", "max", "mean")
-
-# Models, records and intensities name files of the results store: keep them portable.
-_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._+-]*$")
-_MODULE_FUNCTION = re.compile(r"^[A-Za-z_][\w.]*:[A-Za-z_]\w*$")
-
-
-class SpecError(ParameterError):
-    """The experiment file is malformed; the message starts with the key's path."""
-
+#: The intensity "the record as it is" (``[intensities] levels = ["as-recorded"]``).
+AS_RECORDED = "as-recorded"
+#: The tests a finding can make (:class:`FindingSpec`).
+FINDING_TESTS = ("within", "below", "above", "equals", "same")
 
 _BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
 
 
 def key_path(*parts: str) -> str:
-    """A key's path as TOML writes it: ``models."M2.5".law`` (a part that is not a bare key is quoted)."""
+    """A key's path as TOML writes it: ``models."A.5".law`` (a part that is not a bare key is quoted)."""
     return ".".join(p if _BARE_KEY.match(p) else '"' + p.replace("\\", "\\\\").replace('"', '\\"') + '"'
                     for p in parts)
 
 
-# ---- field helpers ------------------------------------------------------------------------------
-def _listish(value: Any) -> Any:
-    return tuple(value) if isinstance(value, list) else value
-
-
-def _owner(instance) -> str:
-    return type(instance).__name__
-
-
-def names_field(*, default: Any = (), optional: bool = False, allowed: tuple[str, ...] | None = None, doc: str = ""):
-    """A list of distinct non-empty strings (stored as a tuple); ``None`` if optional and not given."""
-
-    def check(instance, attribute, value):
-        if value is None and optional:
-            return
-        ok = isinstance(value, tuple) and all(isinstance(v, str) and v for v in value)
-        if not ok:
-            raise SpecError(f"{_owner(instance)}: field {attribute.name!r} must be a list of names, got {value!r}")
-        if len(set(value)) != len(value):
-            raise SpecError(f"{_owner(instance)}: field {attribute.name!r} names an item twice: {list(value)!r}")
-        if allowed is not None:
-            bad = [v for v in value if v not in allowed]
-            if bad:
-                raise SpecError(
-                    f"{_owner(instance)}: field {attribute.name!r} has {bad[0]!r}; allowed: {', '.join(allowed)}"
-                )
-
-    return attrs.field(default=default, converter=_listish, validator=check, metadata={"doc": doc})
-
-
-def text_field(*, default: Any = attrs.NOTHING, optional: bool = False, pattern: re.Pattern | None = None,
-               hint: str = "", doc: str = ""):
-    """A string (matching ``pattern`` if given); ``None`` if optional and not given."""
-
-    def check(instance, attribute, value):
-        if value is None and optional:
-            return
-        if not isinstance(value, str) or (pattern is not None and not pattern.match(value)):
-            raise SpecError(
-                f"{_owner(instance)}: field {attribute.name!r} must be {hint or 'a string'}, "
-                f"got {type(value).__name__} {value!r}"
-            )
-
-    if optional and default is attrs.NOTHING:
-        default = None
-    return attrs.field(default=default, validator=check, metadata={"doc": doc})
-
-
-def flag_field(default: bool, doc: str = ""):
-    """A boolean (TOML true/false; not 0/1)."""
-
-    def check(instance, attribute, value):
-        if not isinstance(value, bool):
-            raise SpecError(f"{_owner(instance)}: field {attribute.name!r} must be true or false, got {value!r}")
-
-    return attrs.field(default=default, validator=check, metadata={"doc": doc})
-
-
-def table_field(doc: str = ""):
-    """A table of keyword arguments (string keys), stored as a plain dict."""
-
-    def check(instance, attribute, value):
-        if not isinstance(value, Mapping) or not all(isinstance(k, str) for k in value):
-            raise SpecError(f"{_owner(instance)}: field {attribute.name!r} must be a table, got {value!r}")
-
-    return attrs.field(factory=dict, converter=lambda v: dict(v) if isinstance(v, Mapping) else v, validator=check,
-                       metadata={"doc": doc})
-
-
-def _reals(value: Any) -> Any:
-    if isinstance(value, list):
-        return tuple(float(v) if isinstance(v, numbers.Real) and not isinstance(v, bool) else v for v in value)
-    return value
-
-
-# ---- the tables -----------------------------------------------------------------------------------
+# ---- [structure] ------------------------------------------------------------------------------------
 @attrs.frozen
 class StructureSpec:
-    """``[structure]``: the bridge model and what is recorded on it.
+    """``[structure]``: the model of the structure and what is recorded on it.
 
-    ``builder``: ``"reference"`` (the paper's bridge; ``options`` are fields of
-    :class:`bearingfw.bridges.BridgeParameters`) or ``"package.module:function"``, a function
-    returning a :class:`bearingfw.model.Model` when called with ``options`` as keyword arguments.
-    The module is imported with ``python_path`` (top level) and the experiment file's folder on
-    ``sys.path``. ``elements``: frame elements whose stresses are metrics (reference default: the
-    paper's S1, S2, 2A..5A, 2B..5B; otherwise none). ``bearings``: the connectors the bearing
-    models govern (user builders only; default every connector with a law, i.e. not JOIN).
-    ``deck_nodes``: nodes whose absolute acceleration is a metric (reference default: both girders
-    at the middle of every span; otherwise none).
+    ``builder``: a structure spec of :mod:`bearingfw.structures`: ``"reference"`` (bearingfw's
+    built-in bridge), ``"package.module:function"`` or ``"path/to/file.py:function"`` (relative to
+    the experiment file), a function returning a :class:`bearingfw.model.Model` when called with
+    ``options`` as keyword arguments (the same as ``--structure`` and ``--option`` on the
+    commands). Modules are imported with ``python_path`` and the experiment file's folder on
+    ``sys.path``. ``elements``: frame elements whose stresses are metrics (default none).
+    ``deck_nodes``: nodes whose absolute acceleration is a metric (default none). ``bearings``: the
+    connectors the bearing models govern (default: every connector that is not JOIN).
+
+    A builder that takes a ``preset`` keyword applies a preset bearing model itself (with ``ks``
+    and ``friction`` if it takes them), unless ``bearings`` is given; otherwise the preset's laws
+    are put on the governed connectors (:mod:`bearingfw.experiment.structure`).
     """
 
-    builder: str = text_field(
-        default=REFERENCE_BUILDER,
-        pattern=re.compile(rf"^({REFERENCE_BUILDER}|{_MODULE_FUNCTION.pattern[1:-1]})$"),
-        hint=f"{REFERENCE_BUILDER!r} or 'package.module:function'",
-        doc="the reference bridge or a function building the model",
-    )
+    builder: str = text_field(default=REFERENCE, pattern=re.compile(r"^\S.*$"),
+                              hint="'package.module:function', 'path/to/file.py:function' or 'reference'",
+                              doc="the function building the model")
     options: dict = table_field(  # noqa: RUF009 - an attrs field with a factory, not a shared default
-        "keyword arguments of the builder (reference: BridgeParameters fields)"
+        "keyword arguments of the builder"
     )
     elements: tuple[str, ...] | None = names_field(default=None, optional=True, doc="response elements")
     bearings: tuple[str, ...] | None = names_field(default=None, optional=True, doc="connectors the models govern")
     deck_nodes: tuple[str, ...] | None = names_field(default=None, optional=True, doc="nodes for deck accelerations")
 
-    @property
-    def is_reference(self) -> bool:
-        return self.builder == REFERENCE_BUILDER
 
-    def __attrs_post_init__(self):
-        if self.is_reference and self.bearings is not None:
-            raise SpecError(
-                "field 'bearings': only for user builders; on the reference bridge the models govern every "
-                "sliding bearing (the presets of bearingfw.bridges)"
-            )
-
-
+# ---- [models.<name>] ----------------------------------------------------------------------------------
 @attrs.frozen
 class ModelSpec:
     """``[models.<name>]``: a bearing model, the law of the sliding directions.
 
-    Either ``preset`` (one of :data:`bearingfw.bridges.PRESETS`: M0, M1, M2, fixed, bouc-wen)
-    with the optional ``ks`` (stick stiffness K_s, N/m) and ``friction`` (mu), or ``law`` (a
-    registered law name, see ``bearingfw plugins``) with its ``params``.
+    Either ``preset`` (a registered bearing preset, see ``bearingfw plugins``) with the optional
+    ``ks`` (stick stiffness K_s, N/m) and ``friction`` (mu) it may use, or ``law`` (a registered law
+    name) with its ``params``.
     """
 
-    name: str = text_field(pattern=_NAME, hint="a name of letters, digits and . _ + - (it names files)")
-    preset: str | None = text_field(
-        optional=True, pattern=re.compile(f"^({'|'.join(map(re.escape, PRESETS))})$"),
-        hint=f"one of {', '.join(PRESETS)}", doc="a preset of bearingfw.bridges (the names are case-sensitive)",
-    )
+    name: str = text_field(pattern=NAME, hint="a name of letters, digits and . _ + - (it names files)")
+    preset: str | None = text_field(optional=True, hint="a registered preset name", doc="a bearing preset")
     ks: float | None = parameter(optional=True, low=0.0, low_open=True, unit="N/m", doc="stick stiffness K_s")
     friction: float | None = parameter(optional=True, low=0.0, high=1.0, high_open=True, doc="friction coefficient")
     law: str | None = text_field(optional=True, hint="a registered law name", doc="bearing law")
@@ -218,22 +135,12 @@ class ModelSpec:
 
     def __attrs_post_init__(self):
         if (self.preset is None) == (self.law is None):
-            raise SpecError(f"ModelSpec {self.name!r}: give either 'preset' ({', '.join(PRESETS)}) or 'law', not "
+            raise SpecError(f"ModelSpec {self.name!r}: give either 'preset' or 'law', not "
                             f"{'both' if self.preset else 'neither'}")
         if self.preset is not None and self.params:
             raise SpecError(f"ModelSpec {self.name!r}: 'params' go with 'law'; a preset takes 'ks' and 'friction'")
         if self.law is not None and (self.ks is not None or self.friction is not None):
             raise SpecError(f"ModelSpec {self.name!r}: 'ks' and 'friction' go with 'preset'; a law takes 'params'")
-
-    @property
-    def friction_coefficient(self) -> float | None:
-        """The mu of this model's friction law, if it has one (the friction figure's line)."""
-        if self.preset in ("M2", "bouc-wen"):
-            from bearingfw.bridges.paper import FRICTION
-
-            return FRICTION if self.friction is None else self.friction
-        value = self.params.get("mu")
-        return float(value) if isinstance(value, numbers.Real) else None
 
     def describe(self) -> str:
         if self.preset is not None:
@@ -244,6 +151,7 @@ class ModelSpec:
         return f"{self.law}" + (f" ({params})" if params else "")
 
 
+# ---- [records.<name>] ---------------------------------------------------------------------------------
 def _check_components(instance, attribute, value):
     ok = isinstance(value, tuple) and len(value) == 3 and all(v in COMPONENT_CHOICES for v in value)
     if not ok:
@@ -253,19 +161,33 @@ def _check_components(instance, attribute, value):
         )
 
 
+def _check_seed(value):
+    if value is not None and (isinstance(value, bool) or not isinstance(value, int) or value < 0):
+        raise SpecError(f"RecordSpec: field 'seed' must be an integer >= 0, got {value!r}")
+
+
+def _axis_field(axis: str):
+    return text_field(optional=True, pattern=re.compile(r"^-?\s*\S.*$"),
+                      hint="a record file, optionally '-FILE' (flipped) or 'FILE#k' (its k-th component)",
+                      doc=f"the file whose motion acts in global {axis}")
+
+
 @attrs.frozen
 class RecordSpec:
-    """``[records.<name>]``: a three-component ground motion.
+    """``[records.<name>]``: a ground motion, the same at every support.
 
-    Either ``seed`` (the synthetic mining tremor of :func:`bearingfw.motion.synthetic_tremor`;
-    ``tremor`` holds fields of :class:`bearingfw.motion.TremorParameters`) or ``files``
-    (horizontal 1, horizontal 2, vertical, relative to the experiment file; ``format``, ``dt`` and
-    ``units`` as in ``bearingfw record info``). ``components``: the record component applied in
-    global x, y and z, the same at every support (default h1 -> x along the bridge, h2 -> y
-    across, v -> z).
+    One of: ``seed`` (the synthetic mining tremor of :func:`bearingfw.motion.synthetic_tremor`;
+    ``tremor`` holds fields of :class:`bearingfw.motion.TremorParameters`); ``x``, ``y``, ``z``
+    (any subset: the file acting in each global direction, relative to the experiment file,
+    ``"FILE#k"`` for the k-th component of a multi-component file, ``"-FILE"`` flipped; a file
+    judged vertical may drive x or y only with ``vertical_as_horizontal = true``,
+    :func:`bearingfw.motion.load_directional`); or ``files`` (horizontal 1, horizontal 2,
+    vertical) with ``components``, the record component applied in global x, y and z (default
+    h1 -> x, h2 -> y, v -> z). ``format``, ``dt`` and ``units`` describe files that do not state
+    them, as in ``bearingfw record info``.
     """
 
-    name: str = text_field(pattern=_NAME, hint="a name of letters, digits and . _ + - (it names files)")
+    name: str = text_field(pattern=NAME, hint="a name of letters, digits and . _ + - (it names files)")
     seed: int | None = attrs.field(default=None, validator=lambda i, a, v: _check_seed(v))
     tremor: dict = table_field(  # noqa: RUF009 - an attrs field with a factory, not a shared default
         "TremorParameters fields of the synthetic tremor"
@@ -275,89 +197,138 @@ class RecordSpec:
     dt: float | None = parameter(optional=True, low=0.0, low_open=True, unit="s", doc="time step of files without one")
     units: str | None = text_field(optional=True, hint="g, m/s^2 or cm/s^2", doc="units of files without them")
     components: tuple[str, str, str] = attrs.field(
-        default=tuple(ROLES), converter=_listish, validator=_check_components,
+        default=tuple(ROLES), converter=listish, validator=_check_components,
         metadata={"doc": "record component applied in global x, y, z"},
     )
+    x: str | None = _axis_field("x (along)")
+    y: str | None = _axis_field("y (across)")
+    z: str | None = _axis_field("z (up)")
+    vertical_as_horizontal: bool = flag_field(False, "let a file judged vertical drive x or y")
 
     def __attrs_post_init__(self):
-        if (self.seed is None) == (self.files is None):
-            raise SpecError(f"RecordSpec {self.name!r}: give either 'seed' (synthetic tremor) or 'files', not "
-                            f"{'both' if self.seed is not None else 'neither'}")
-        if self.files is not None and self.tremor:
-            raise SpecError(f"RecordSpec {self.name!r}: 'tremor' parameters go with 'seed', not with 'files'")
+        sources = {"seed": self.seed is not None, "files": self.files is not None, "x/y/z": self.mapped}
+        given = [k for k, v in sources.items() if v]
+        if len(given) != 1:
+            raise SpecError(f"RecordSpec {self.name!r}: give one of 'seed' (synthetic tremor), 'files' or 'x'/'y'/'z' "
+                            f"(files per direction), not {' and '.join(given) if given else 'none'}")
+        if self.seed is None and self.tremor:
+            raise SpecError(f"RecordSpec {self.name!r}: 'tremor' parameters go with 'seed', not with files")
         if self.seed is not None and any(v is not None for v in (self.format, self.dt, self.units)):
             raise SpecError(f"RecordSpec {self.name!r}: 'format', 'dt' and 'units' describe files; not with 'seed'")
+        if self.mapped and self.components != tuple(ROLES):
+            raise SpecError(f"RecordSpec {self.name!r}: 'components' goes with 'files'; with 'x'/'y'/'z' each file "
+                            "names its direction already")
+        if self.vertical_as_horizontal and not self.mapped:
+            raise SpecError(f"RecordSpec {self.name!r}: 'vertical_as_horizontal' goes with 'x'/'y'/'z'")
+
+    @property
+    def mapped(self) -> bool:
+        """True for a record given by direction (``x``, ``y``, ``z``)."""
+        return any(getattr(self, axis) is not None for axis in AXES)
 
     @property
     def synthetic(self) -> bool:
         return self.seed is not None
 
 
-def _check_seed(value):
-    if value is not None and (isinstance(value, bool) or not isinstance(value, int) or value < 0):
-        raise SpecError(f"RecordSpec: field 'seed' must be an integer >= 0, got {value!r}")
-
-
+# ---- [intensities] ------------------------------------------------------------------------------------
 @attrs.frozen
 class Intensity:
-    """One intensity of the study: its name, PGA_H10 (m/s^2), and the level it stands for (or None)."""
+    """One intensity of the experiment: its name (the cells' and the matrices' column) and the
+    :class:`~bearingfw.motion.ScaleTarget` every record is scaled to."""
 
     name: str
-    pga_h10: float
-    level: str | None = None
+    target: ScaleTarget
+
+    @property
+    def pga_h10(self) -> float | None:
+        """The target PGA_H10 (m/s^2) of a level or a PGA_H10 value; None for the other kinds."""
+        return self.target.value if self.target.kind == "pga_h10" else None
+
+    @property
+    def level(self) -> str | None:
+        """The level D_0 .. D_IV the intensity stands for (its degree is checked), or None."""
+        return self.target.level
+
+    def inputs(self) -> dict:
+        """What identifies the intensity in a cell's digest (a level or PGA_H10 as it always was)."""
+        if self.target.kind == "pga_h10":
+            return {"name": self.name, "pga_h10": self.target.value, "level": self.target.level}
+        return {"name": self.name, "target": self.target.to_dict()}
 
 
 def _level_names(value: Any) -> Any:
-    value = _listish(value)
-    if isinstance(value, tuple):
+    value = listish(value)
+    if not isinstance(value, tuple):
+        return value
+    out = []
+    for v in value:
+        if isinstance(v, str) and v.strip().lower().replace("_", "-") == AS_RECORDED:
+            out.append(AS_RECORDED)
+            continue
         try:
-            return tuple(level_name(v) for v in value)
+            out.append(level_name(v))
         except ParameterError:
-            return value
-    return value
+            out.append(v)
+    return tuple(out)
 
 
 def _check_levels(instance, attribute, value):
     if value is None:
         return
-    if not isinstance(value, tuple) or not value or not all(v in LEVEL_NAMES for v in value):
-        raise SpecError(f"IntensitySpec: field 'levels' must be a list of levels among {', '.join(LEVEL_NAMES)}, "
+    allowed = (*LEVEL_NAMES, AS_RECORDED)
+    if not isinstance(value, tuple) or not value or not all(v in allowed for v in value):
+        raise SpecError(f"IntensitySpec: field 'levels' must be a list of levels among {', '.join(allowed)}, "
                         f"got {value!r}")
     if len(set(value)) != len(value):
         raise SpecError(f"IntensitySpec: field 'levels' names a level twice: {list(value)!r}")
 
 
-def _check_pga(instance, attribute, value):
-    if value is None:
+def _check_period(instance, attribute, value):
+    if value is None or value == "T1":
         return
-    ok = isinstance(value, tuple) and value and all(isinstance(v, float) and math.isfinite(v) and v > 0 for v in value)
-    if not ok:
-        raise SpecError(f"IntensitySpec: field 'pga_h10' must be a list of PGA_H10 values > 0 (m/s^2), got {value!r}")
-    if len(set(value)) != len(value):
-        raise SpecError(f"IntensitySpec: field 'pga_h10' gives a value twice: {list(value)!r}")
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not value > 0:
+        raise SpecError(f"IntensitySpec: field 'period' must be a period > 0 (s) or \"T1\" (the structure's first "
+                        f"mode), got {value!r}")
 
 
 @attrs.frozen
 class IntensitySpec:
-    """``[intensities]``: the intensities every record is scaled to.
+    """``[intensities]``: what every record is scaled to, one intensity per entry, in this order.
 
-    ``levels`` (default D_0 .. D_IV) at the PGA_H10 of :class:`bearingfw.motion.IntensityLevels`,
-    with ``values`` overriding some (``{ D_II = 0.5 }``); a record scaled to a level must then be
-    of that level's degree on ``scale`` (default: the default scale), else the cell fails and says
-    why. Or ``pga_h10``: plain PGA_H10 values (m/s^2), named ``PGA_H10=<value>``.
+    ``levels``: intensity levels D_0 .. D_IV at the PGA_H10 of
+    :class:`bearingfw.motion.IntensityLevels` (``values`` overrides some: ``{ D_II = 0.5 }``; a
+    record scaled to a level must be of that level's degree on ``scale``, else the cell fails and
+    says why), and ``"as-recorded"`` (the record unscaled); ``pga_h10``: PGA_H10 values (m/s^2,
+    named ``PGA_H10=<value>``); ``pga``: peak horizontal ground accelerations (m/s^2, the
+    horizontal resultant, named ``pga=<value>``); ``sa``: pseudo-spectral accelerations Sa(T, 5 %)
+    (m/s^2) at ``period`` T (s, or ``"T1"``: the first mode of the structure as its builder
+    returns it; named ``sa=<value>@<T>s`` or ``sa=<value>@T1``). :mod:`bearingfw.motion.scaling` defines each measure.
+    Without any of them: the five levels D_0 .. D_IV.
     """
 
     levels: tuple[str, ...] | None = attrs.field(default=None, converter=_level_names, validator=_check_levels)
     values: dict = table_field(  # noqa: RUF009 - an attrs field with a factory, not a shared default
         "PGA_H10 (m/s^2) of some levels, replacing the defaults"
     )
-    pga_h10: tuple[float, ...] | None = attrs.field(default=None, converter=_reals, validator=_check_pga)
+    pga_h10: tuple[float, ...] | None = reals_field(what="PGA_H10", unit="m/s^2")
+    pga: tuple[float, ...] | None = reals_field(what="PGA", unit="m/s^2")
+    sa: tuple[float, ...] | None = reals_field(what="Sa(T, 5 %)", unit="m/s^2")
+    period: float | str | None = attrs.field(
+        default=None, converter=lambda v: float(v) if isinstance(v, int) and not isinstance(v, bool) else v,
+        validator=_check_period, metadata={"doc": "period of Sa (s) or 'T1'", "unit": "s"},
+    )
     scale: str | None = text_field(optional=True, hint="a registered intensity scale name", doc="intensity scale")
 
     def __attrs_post_init__(self):
-        if self.pga_h10 is not None and (self.levels is not None or self.values):
-            raise SpecError("IntensitySpec: give 'levels' (and 'values') or 'pga_h10', not both")
+        if (self.sa is None) != (self.period is None):
+            raise SpecError("IntensitySpec: 'sa' and 'period' go together (period: seconds, or \"T1\" for the "
+                            "structure's first mode)")
         self.table()  # the level values must make a valid IntensityLevels
+        names = [i.name for i in self.resolve()]
+        twice = sorted({n for n in names if names.count(n) > 1})
+        if twice:
+            raise SpecError(f"IntensitySpec: the intensity {twice[0]!r} is given twice")
 
     def table(self) -> IntensityLevels:
         """The PGA_H10 of each level, defaults with ``values`` applied."""
@@ -367,21 +338,35 @@ class IntensitySpec:
             raise SpecError(f"field 'values': {exc}") from None
 
     @property
-    def default_levels(self) -> bool:
-        """True when the intensities are levels D_x (named so in the matrices)."""
-        return self.pga_h10 is None
+    def needs_first_period(self) -> bool:
+        """True when an Sa intensity is at the structure's first-mode period (resolved when the run starts)."""
+        return self.sa is not None and self.period == "T1"
 
-    def resolve(self) -> tuple[Intensity, ...]:
-        """The intensities in order."""
-        if self.pga_h10 is not None:
-            return tuple(Intensity(f"PGA_H10={v:g}", v) for v in self.pga_h10)
+    def resolve(self, first_period: float | None = None) -> tuple[Intensity, ...]:
+        """The intensities in order; an Sa target at "T1" gets ``first_period`` (s) if given."""
+        given = any(v is not None for v in (self.levels, self.pga_h10, self.pga, self.sa))
+        levels = self.levels if self.levels is not None else (() if given else LEVEL_NAMES)
         table = self.table()
-        return tuple(Intensity(name, table[name], name) for name in (self.levels or LEVEL_NAMES))
+        out = []
+        for level in levels:
+            target = (ScaleTarget(kind=AS_RECORDED) if level == AS_RECORDED
+                      else ScaleTarget.for_level(level, table))
+            out.append(target)
+        out += [ScaleTarget(kind="pga_h10", value=v) for v in self.pga_h10 or ()]
+        out += [ScaleTarget(kind="pga", value=v) for v in self.pga or ()]
+        period = None if self.period == "T1" else self.period
+        for v in self.sa or ():
+            target = ScaleTarget(kind="sa", value=v, period=period)
+            if period is None and first_period is not None:
+                target = target.with_period(first_period)
+            out.append(target)
+        return tuple(Intensity(t.label, t) for t in out)
 
 
+# ---- [damping] ------------------------------------------------------------------------------------------
 def _pairs(value: Any) -> Any:
     if isinstance(value, list):
-        return tuple(_reals(v) if isinstance(v, list) else v for v in value)
+        return tuple(reals(v) if isinstance(v, list) else v for v in value)
     return value
 
 
@@ -394,8 +379,8 @@ def _check_ratios(instance, attribute, value):
     )
     if not ok:
         raise SpecError(
-            f"DampingSpec: field 'ratios' must be two [frequency Hz, damping ratio] pairs, e.g. [[1.5, 0.021], "
-            f"[3.36, 0.027]]; got {value!r}"
+            f"DampingSpec: field 'ratios' must be two [frequency Hz, damping ratio] pairs, e.g. [[1.5, 0.02], "
+            f"[3.5, 0.03]]; got {value!r}"
         )
 
 
@@ -403,8 +388,9 @@ def _check_ratios(instance, attribute, value):
 class DampingSpec:
     """``[damping]``: Rayleigh damping ``C = alpha M + beta K`` of the linear structure.
 
-    Through two ``ratios`` ``[[f1, zeta1], [f2, zeta2]]`` (Hz, -), default the paper's measured
-    2.1 % at 1.50 Hz and 2.7 % at 3.36 Hz, or directly ``alpha`` (1/s) and ``beta`` (s).
+    Through two ``ratios`` ``[[f1, zeta1], [f2, zeta2]]`` (Hz, -); or directly ``alpha`` (1/s) and
+    ``beta`` (s); or ``ratio`` (default 0.02) at the first two natural frequencies of the structure
+    as its builder returns it (computed when the run starts).
     """
 
     ratios: tuple[tuple[float, float], ...] | None = attrs.field(
@@ -412,36 +398,59 @@ class DampingSpec:
     )
     alpha: float | None = parameter(optional=True, low=0.0, unit="1/s", doc="mass-proportional coefficient")
     beta: float | None = parameter(optional=True, low=0.0, unit="s", doc="stiffness-proportional coefficient")
+    ratio: float | None = parameter(optional=True, low=0.0, high=1.0, low_open=True, high_open=True,
+                                    doc="damping ratio at the first two natural frequencies (default 0.02)")
 
     def __attrs_post_init__(self):
         direct = (self.alpha is not None, self.beta is not None)
-        if any(direct) and self.ratios is not None:
-            raise SpecError("DampingSpec: give 'ratios' or 'alpha' and 'beta', not both")
+        ways = [w for w, given in (("ratios", self.ratios is not None), ("alpha and beta", any(direct)),
+                                   ("ratio", self.ratio is not None)) if given]
+        if len(ways) > 1:
+            raise SpecError(f"DampingSpec: give {' or '.join(ways)}, not both")
         if any(direct) and not all(direct):
             raise SpecError("DampingSpec: give both 'alpha' and 'beta' (0 for none)")
-        self.rayleigh()  # ratios that give a negative coefficient fail here, with the loader's path
+        if self.ratios is not None:
+            self.rayleigh()  # ratios that give a negative coefficient fail here, with the loader's path
 
-    def rayleigh(self):
-        """The :class:`bearingfw.analysis.Rayleigh` object."""
+    @property
+    def needs_frequencies(self) -> bool:
+        """True when the damping is set at the structure's first two frequencies (resolved when the run starts)."""
+        return self.ratios is None and self.alpha is None
+
+    @property
+    def modal_ratio(self) -> float:
+        """The damping ratio put at the first two natural frequencies when neither ratios nor coefficients are given."""
+        return 0.02 if self.ratio is None else self.ratio
+
+    def rayleigh(self, frequencies: tuple[float, float] | None = None):
+        """The :class:`bearingfw.analysis.Rayleigh` object (``frequencies``: the structure's first two, Hz,
+        when :attr:`needs_frequencies`)."""
         from bearingfw.analysis import Rayleigh
 
         if self.alpha is not None:
             return Rayleigh(self.alpha, self.beta)
-        (f1, z1), (f2, z2) = self.ratios or DAMPING_RATIOS
+        if self.ratios is not None:
+            (f1, z1), (f2, z2) = self.ratios
+        elif frequencies is not None:
+            (f1, f2), z1, z2 = frequencies, self.modal_ratio, self.modal_ratio
+        else:
+            raise SpecError("damping: the Rayleigh coefficients need the structure's first two frequencies")
         try:
             return Rayleigh.from_ratios(f1, z1, f2, z2)
         except ParameterError as exc:
             raise SpecError(f"field 'ratios': {exc}") from None
 
 
+# ---- [output], [figures] ----------------------------------------------------------------------------------
 @attrs.frozen
 class OutputSpec:
     """``[output]``: what the run writes besides the matrices of every metric.
 
     ``table``: the metrics printed and shown in the report (all are in ``matrices.json`` and the
-    CSVs); ``aggregate``: how several records combine (:data:`AGGREGATES`); ``histories``: keep
-    each cell's time histories (NPZ; figures need them); ``every``: keep every k-th integration
-    step in them; ``report``: write ``report.md``.
+    CSVs; default: each family's items that the structure has, :func:`default_table`);
+    ``aggregate``: how several records combine (:data:`AGGREGATES`); ``histories``: keep each
+    cell's time histories (NPZ; figures need them); ``every``: keep every k-th integration step in
+    them; ``report``: write ``report.md``.
     """
 
     table: tuple[str, ...] = names_field(default=(), doc="metrics to print (default: a selection)")
@@ -456,12 +465,11 @@ class FigureSpec:
     """``[figures]``: which figures the run draws (PNG and SVG in ``figures/``).
 
     For every record and every intensity in ``intensities`` (default all): the stress histories
-    of all models at ``elements`` (the paper's figures 18 and 20; default S1 and 3B on the
-    reference bridge, else the first two response elements), the force in ``bearing`` (default 3B,
-    else the first governed bearing) for the models ``compare`` (default M1 and M2; figures 19a,
-    21a), its friction ratio for the models with a friction coefficient, with the mu line
-    (figures 19b, 21b), and with ``hysteresis`` the force-displacement loops of every bearing of
-    every model. Also a heatmap per metric of the table, and the records' intensity chart.
+    of all models at ``elements`` (default: the first two response elements), the force in
+    ``bearing`` (default: the first governed bearing) for the models ``compare`` (default all), its
+    friction ratio for the models whose law there has a friction coefficient, with the mu line,
+    and with ``hysteresis`` the force-displacement loops of every bearing of every model. Also a
+    heatmap per metric of the table, and the records' intensity chart.
     """
 
     draw: bool = flag_field(True, "draw figures at all")
@@ -472,6 +480,94 @@ class FigureSpec:
     hysteresis: bool = flag_field(True, "draw every bearing's force-displacement loops")
 
 
+# ---- [[findings]] -----------------------------------------------------------------------------------------
+def _levels_list(value: Any) -> Any:
+    if isinstance(value, str):
+        return (value,)
+    return listish(value)
+
+
+def _check_finding_levels(instance, attribute, value):
+    ok = isinstance(value, tuple) and value and all(isinstance(v, str) and v for v in value)
+    if not ok:
+        raise SpecError(f"FindingSpec: field 'level' must be an intensity name or a list of them, got {value!r}")
+    if len(set(value)) != len(value):
+        raise SpecError(f"FindingSpec: field 'level' names an intensity twice: {list(value)!r}")
+
+
+def _check_metric(instance, attribute, value):
+    if not isinstance(value, str) or not re.match(r"^[A-Za-z_][\w]*\.\S+$", value):
+        raise SpecError(f"FindingSpec: field 'metric' must be 'family.item' (e.g. 'stress_dynamic.G4', "
+                        f"'friction_ratio.B7'), got {value!r}")
+
+
+def _check_pair(instance, attribute, value):
+    if value is None:
+        return
+    ok = isinstance(value, tuple) and len(value) == 2 and all(isinstance(v, str) and v for v in value)
+    if not ok or value[0] == value[1]:
+        raise SpecError(f"FindingSpec: field 'models' must be two different model names [A, B] (the ratio A/B), "
+                        f"got {value!r}")
+
+
+@attrs.frozen
+class FindingSpec:
+    """``[[findings]]``: a statement the experiment checks on the matrices, reported with what it measured.
+
+    ``metric`` (``family.item``) at ``level`` (an intensity name, or a list: the statement for
+    each), of ``models = [A, B]`` (the ratio A/B at the same intensity) or of ``model = A`` (its
+    value, SI units). Exactly one test: ``within = t`` (abs(x - 1) <= t), ``below = b`` (x < b),
+    ``above = a`` (x > a), ``equals = e`` (abs(x - e) <= tolerance x abs(e); ``tolerance`` default
+    1e-6, absolute when e = 0), or ``same = t`` (x is the same at every ``level`` of the list:
+    abs(x_l / x_first - 1) <= t). ``name``: the statement as reported (``{level}`` stands for the
+    level; default: written from the fields); ``group``: the heading it is reported under.
+    """
+
+    metric: str = attrs.field(validator=_check_metric)
+    level: tuple[str, ...] = attrs.field(converter=_levels_list, validator=_check_finding_levels)
+    models: tuple[str, str] | None = attrs.field(default=None, converter=listish, validator=_check_pair)
+    model: str | None = text_field(optional=True, pattern=NAME, hint="a model name")
+    within: float | None = parameter(optional=True, low=0.0, doc="abs(ratio - 1) at most this")
+    below: float | None = parameter(optional=True, doc="strictly below this")
+    above: float | None = parameter(optional=True, doc="strictly above this")
+    equals: float | None = parameter(optional=True, doc="equal to this, within the tolerance")
+    tolerance: float | None = parameter(optional=True, low=0.0, doc="relative tolerance of 'equals' (default 1e-6)")
+    same: float | None = parameter(optional=True, low=0.0, doc="the same at every level, within this (relative)")
+    name: str | None = text_field(optional=True, pattern=re.compile(r"^.*\S.*$"), hint="a non-empty text")
+    group: str = text_field(default="Findings", pattern=re.compile(r"^.*\S.*$"), hint="a non-empty text")
+
+    def __attrs_post_init__(self):
+        if (self.models is None) == (self.model is None):
+            raise SpecError("FindingSpec: give 'models' = [A, B] (the ratio A/B) or 'model' = A (its value), not "
+                            f"{'both' if self.model else 'neither'}")
+        tests = [t for t in FINDING_TESTS if getattr(self, t) is not None]
+        if len(tests) != 1:
+            raise SpecError(f"FindingSpec: give exactly one test of {', '.join(FINDING_TESTS)}; got "
+                            f"{', '.join(tests) or 'none'}")
+        if self.tolerance is not None and self.test != "equals":
+            raise SpecError("FindingSpec: 'tolerance' goes with 'equals'")
+        if self.test == "same" and len(self.level) < 2:
+            raise SpecError("FindingSpec: 'same' compares levels: 'level' must list at least two")
+
+    @property
+    def test(self) -> str:
+        return next(t for t in FINDING_TESTS if getattr(self, t) is not None)
+
+    @property
+    def bound(self) -> float:
+        return getattr(self, self.test)
+
+    @property
+    def subject(self) -> str:
+        """``A/B`` or ``A``."""
+        return "/".join(self.models) if self.models else self.model
+
+    @property
+    def model_names(self) -> tuple[str, ...]:
+        return self.models or (self.model,)
+
+
+# ---- the experiment ---------------------------------------------------------------------------------------
 def _check_module_names(instance, attribute, value):
     if not isinstance(value, tuple) or not all(isinstance(v, str) and re.match(r"^[A-Za-z_][\w.]*$", v) for v in value):
         raise SpecError(f"Experiment: field 'plugins' must be a list of module names, got {value!r}")
@@ -485,10 +581,10 @@ class Experiment:
     text the experiment was read from (copied into the results store).
     """
 
-    name: str = text_field(pattern=_NAME, hint="a name of letters, digits and . _ + - (it names the output folder)")
+    name: str = text_field(pattern=NAME, hint="a name of letters, digits and . _ + - (it names the output folder)")
     description: str = text_field(default="")
-    reference: str | None = text_field(optional=True, doc="the model the ratios divide by (default M2 or the first)")
-    plugins: tuple[str, ...] = attrs.field(default=(), converter=_listish, validator=_check_module_names)
+    reference: str | None = text_field(optional=True, doc="the model the ratios divide by (default the first)")
+    plugins: tuple[str, ...] = attrs.field(default=(), converter=listish, validator=_check_module_names)
     python_path: tuple[str, ...] = names_field(default=(), doc="folders (relative to the file) put on sys.path")
     structure: StructureSpec = attrs.field(factory=StructureSpec)
     models: tuple[ModelSpec, ...] = ()
@@ -498,6 +594,7 @@ class Experiment:
     damping: DampingSpec = attrs.field(factory=DampingSpec)
     output: OutputSpec = attrs.field(factory=OutputSpec)
     figures: FigureSpec = attrs.field(factory=FigureSpec)
+    findings: tuple[FindingSpec, ...] = ()
     base_dir: Path = attrs.field(factory=Path.cwd, converter=Path)
     source: str = ""
 
@@ -506,7 +603,7 @@ class Experiment:
             raise SpecError("models: the experiment needs at least one [models.<name>] table")
         if not self.records:
             raise SpecError("records: the experiment needs at least one [records.<name>] table")
-        names = [m.name for m in self.models]
+        names = list(self.model_names)
         if self.reference is not None and self.reference not in names:
             raise SpecError(f"reference: {self.reference!r} is not a model; models: {', '.join(names)}")
         intensities = [i.name for i in self.intensity_list]
@@ -515,6 +612,13 @@ class Experiment:
             bad = [g for g in (given or ()) if g not in known]
             if bad:
                 raise SpecError(f"{field}: {bad[0]!r} is not among {', '.join(known)}")
+        for k, finding in enumerate(self.findings, start=1):
+            for field, given, known in (("models" if finding.models else "model", finding.model_names, names),
+                                        ("level", finding.level, intensities)):
+                bad = [g for g in given if g not in known]
+                if bad:
+                    raise SpecError(f"findings[{k}].{field}: {bad[0]!r} is not in the experiment; it has "
+                                    f"{', '.join(known)}")
 
     @property
     def model_names(self) -> tuple[str, ...]:
@@ -526,14 +630,13 @@ class Experiment:
 
     @property
     def intensity_list(self) -> tuple[Intensity, ...]:
+        """The intensities as the file gives them (an Sa target at "T1" still without its period)."""
         return self.intensities.resolve()
 
     @property
     def reference_model(self) -> str:
-        """The model the ratio matrices divide by: ``reference``, else M2 if present, else the first."""
-        if self.reference is not None:
-            return self.reference
-        return "M2" if "M2" in self.model_names else self.model_names[0]
+        """The model the ratio matrices divide by: ``reference``, else the first model."""
+        return self.reference if self.reference is not None else self.model_names[0]
 
     def model(self, name: str) -> ModelSpec:
         return next(m for m in self.models if m.name == name)
@@ -547,7 +650,7 @@ class Experiment:
         return p if p.is_absolute() else self.base_dir / p
 
 
-# ---- loading ----------------------------------------------------------------------------------------
+# ---- loading ----------------------------------------------------------------------------------------------
 #: The top-level keys and the class (or kind) of each table.
 _TABLES = {
     "structure": StructureSpec,
@@ -558,6 +661,7 @@ _TABLES = {
     "figures": FigureSpec,
 }
 _NAMED = {"models": ModelSpec, "records": RecordSpec}
+_LISTS = {"findings": FindingSpec}
 _SCALARS = ("name", "description", "reference", "plugins", "python_path")
 
 
@@ -637,13 +741,18 @@ def load_experiment(path: str | Path) -> Experiment:
 
 
 def _experiment(data: dict, base_dir: Path, text: str) -> Experiment:
-    _unknown("", data, (*_SCALARS, *_TABLES, *_NAMED))
+    _unknown("", data, (*_SCALARS, *_TABLES, *_NAMED, *_LISTS))
     kwargs: dict[str, Any] = {key: from_table(cls, data[key], key) for key, cls in _TABLES.items() if key in data}
     for key, cls in _NAMED.items():
         tables = data.get(key, {})
         if not isinstance(tables, Mapping):
             raise SpecError(f"{key}: must be tables [{key}.<name>], got {type(tables).__name__} {tables!r}")
         kwargs[key] = tuple(from_table(cls, table, key_path(key, name), name=name) for name, table in tables.items())
+    for key, cls in _LISTS.items():
+        tables = data.get(key, [])
+        if not isinstance(tables, list):
+            raise SpecError(f"{key}: must be an array of tables [[{key}]], got {type(tables).__name__} {tables!r}")
+        kwargs[key] = tuple(from_table(cls, table, f"{key}[{k}]") for k, table in enumerate(tables, start=1))
     scalars = {key: data[key] for key in _SCALARS if key in data}
     if "name" not in scalars:
         raise SpecError("name: missing; every experiment has a name (it names the output folder)")

@@ -1,15 +1,17 @@
-"""The model of a cell: the structure (the reference bridge or a user's builder) with a bearing model.
+"""The model of a cell: the structure (a builder of :mod:`bearingfw.structures`) with a bearing model.
 
-Reference bridge (``[structure] builder = "reference"``): a preset model is exactly
-:func:`bearingfw.bridges.reference_bridge` (the same model as ``bearingfw modal --model``); a
-``law`` model puts that law on every sliding bearing (``Model.with_law``).
+The structure is what ``[structure] builder`` returns when called with ``options``
+(:func:`bearingfw.structures.build_structure`: the built-in reference bridge, a
+``package.module:function`` or a ``path/to/file.py:function``). The bearing model then goes on
+the governed connectors (``[structure] bearings``, default every connector that is not JOIN):
 
-User builder (``"package.module:function"``): the function returns a
-:class:`~bearingfw.model.Model`; the bearing model then replaces the law of the governed
-connectors (``[structure] bearings``, default every connector that is not JOIN). A preset maps
-to the law :data:`bearingfw.bridges.PRESETS` gives it (``fixed``: the rigid ``fixed`` law, which
-ties the sliding directions; ``bouc-wen``: ``uy`` from each bearing's dead-load normal force with
-linear springs ``ks`` in place, as on the reference bridge).
+- a ``law`` model: that law with its parameters on each of them (``Model.with_law``);
+- a ``preset`` model: the laws :func:`bearingfw.bridges.preset_laws` gives each of them (a preset
+  that fixes a bearing: the rigid ``fixed`` law, which ties the sliding directions; one that
+  ``needs_dead_load``: each bearing's dead-load normal force with linear springs ``ks`` in
+  place). A builder that takes a ``preset`` keyword applies the preset itself instead (with
+  ``ks`` and ``friction`` when given), unless ``bearings`` names the connectors: a builder knows
+  its bearings' layout better than "every connector that is not JOIN".
 
 Plugins named by the experiment (``plugins = [...]``) are loaded besides the installed ones into
 a registry of their own (:func:`registry_for`), which the cell's analyses use.
@@ -24,28 +26,20 @@ import hashlib
 import importlib
 import importlib.util
 import sys
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Sequence
 from importlib import metadata
 from pathlib import Path
 
 from bearingfw.analysis import gravity
-from bearingfw.bridges import (
-    DEFAULT_KS,
-    PRESETS,
-    RESPONSE_ELEMENTS,
-    BridgeParameters,
-    grid,
-    reference_bridge,
-)
-from bearingfw.bridges.paper import FRICTION
+from bearingfw.bridges import DEFAULT_KS, find_preset, preset_laws
 from bearingfw.experiment.spec import Experiment, ModelSpec, SpecError, StructureSpec
 from bearingfw.model import ConnectorKind, FrameElement, Model, as_system
 from bearingfw.parameters import ParameterError
 from bearingfw.plugins import Registry, get_registry, load_registry
 from bearingfw.plugins.registry import ENTRY_POINT_GROUP
+from bearingfw.structures import StructureError, build_structure, builder_keywords, import_location, load_builder
 
 __all__ = [
-    "bridge_parameters",
     "build_model",
     "code_inputs",
     "deck_nodes",
@@ -55,7 +49,17 @@ __all__ = [
     "on_path",
     "registry_for",
     "response_elements",
+    "structure_model",
 ]
+
+#: How many names an error lists before "..." (a bridge has hundreds of elements).
+_LISTED = 24
+
+
+def _listing(names: Sequence[str]) -> str:
+    names = list(names)
+    shown = ", ".join(names[:_LISTED])
+    return (shown + f", ... ({len(names)} in all)") if len(names) > _LISTED else (shown or "none")
 
 
 def import_paths(experiment: Experiment) -> tuple[str, ...]:
@@ -96,122 +100,151 @@ def registry_for(plugins: tuple[str, ...] = (), paths: tuple[str, ...] = ()) -> 
     return registry
 
 
-def _builder(structure: StructureSpec, paths: tuple[str, ...]):
-    module_name, _, function = structure.builder.partition(":")
+
+
+def _builder(experiment: Experiment):
+    structure = experiment.structure
     try:
-        with on_path(paths):
-            module = importlib.import_module(module_name)
-    except Exception as exc:  # noqa: BLE001 - an error in the user's module, whatever it is
-        raise SpecError(
-            f"structure.builder: cannot import module {module_name!r}: {type(exc).__name__}: {exc}"
-        ) from None
-    fn = getattr(module, function, None)
-    if not callable(fn):
-        raise SpecError(f"structure.builder: module {module_name!r} has no function {function!r}")
-    return fn
+        return load_builder(structure.builder, base_dir=experiment.base_dir, python_path=experiment.python_path)
+    except StructureError as exc:
+        raise SpecError(f"structure.builder: {exc}") from None
 
 
-def _user_structure(structure: StructureSpec, paths: tuple[str, ...]) -> Model:
-    fn = _builder(structure, paths)
+def structure_model(experiment: Experiment, extra: dict | None = None) -> Model:
+    """What ``[structure] builder`` returns with ``options`` (and ``extra`` keywords); errors name the key."""
+    structure = experiment.structure
+    _builder(experiment)  # a builder that cannot be had is the builder's key's error, the rest its options'
     try:
-        model = fn(**structure.options)
-    except TypeError as exc:
-        raise SpecError(f"structure.options: {structure.builder} does not take them: {exc}") from None
-    if not isinstance(model, Model):
-        raise SpecError(
-            f"structure.builder: {structure.builder} returned {type(model).__name__}, not a bearingfw Model"
-        )
-    return model
-
-
-def bridge_parameters(structure: StructureSpec) -> BridgeParameters:
-    """The reference bridge's :class:`BridgeParameters` from ``[structure] options`` (errors with the key path)."""
-    from bearingfw.experiment.spec import from_table  # the loader's own key-path checks
-
-    return from_table(BridgeParameters, structure.options, "structure.options")
+        return build_structure(structure.builder, {**structure.options, **(extra or {})},
+                               base_dir=experiment.base_dir, python_path=experiment.python_path)
+    except StructureError as exc:
+        key = "structure" if "calling the builder failed" in str(exc) else "structure.options"
+        raise SpecError(f"{key}: {exc}") from None
 
 
 def governed_bearings(structure: StructureSpec, model: Model) -> tuple[str, ...]:
     """The connectors the bearing models govern: ``[structure] bearings`` or every non-JOIN connector."""
     if structure.bearings is not None:
+        names = [c.name for c in model.connectors]
         for name in structure.bearings:
-            try:
-                model.connector(name)
-            except ParameterError:
-                raise SpecError(f"structure.bearings: the model has no connector {name!r}") from None
+            if name not in names:
+                raise SpecError(f"structure.bearings: the model has no connector {name!r}; it has {_listing(names)}")
         return structure.bearings
     return tuple(c.name for c in model.connectors if c.kind is not ConnectorKind.JOIN)
 
 
-def _preset_laws(spec: ModelSpec, base: Model, bearings: tuple[str, ...], registry: Registry) -> dict:
-    """The (law, params) of each governed bearing under a preset, on a user's structure."""
-    preset = PRESETS[spec.preset]
+def _applies_presets(experiment: Experiment, spec: ModelSpec) -> dict | None:
+    """The keywords with which the builder applies the preset ``spec`` itself, or None (module docstring)."""
+    if spec.preset is None or experiment.structure.bearings is not None:
+        return None
+    keywords = builder_keywords(_builder(experiment))
+    if keywords is None or "preset" not in keywords:
+        return None
+    extra = {"preset": spec.preset}
+    for key in ("ks", "friction"):
+        value = getattr(spec, key)
+        if value is not None:
+            if key not in keywords:
+                raise SpecError(f"models.{spec.name}.{key}: the structure's builder applies presets itself and takes "
+                                f"no {key!r}")
+            extra[key] = value
+    return extra
+
+
+def _preset_model(spec: ModelSpec, base: Model, bearings: tuple[str, ...], registry: Registry) -> Model:
+    """``base`` with the laws the preset ``spec`` gives each governed bearing."""
+    preset = find_preset(spec.preset, registry)
     ks = DEFAULT_KS if spec.ks is None else spec.ks
-    mu = FRICTION if spec.friction is None else spec.friction
-    normal: Mapping[str, float] = {}
-    if preset.needs_dead_load:  # as on the reference bridge: N at dead load with linear springs K_s in place
+    normal = None
+    if preset.needs_dead_load:  # each bearing's dead-load N with linear springs K_s in place
         springs = base.with_law("linear-spring", {"k": ks}, connectors=bearings)
         result = gravity(as_system(springs, registry))
         normal = {b: result.normal_force(b) for b in bearings}
-    laws = {}
-    for b in bearings:
-        law = preset.law(ks, mu, normal.get(b, 0.0), BridgeParameters())
-        laws[b] = ("fixed", {}) if law is None else law
-    return laws
-
-
-def build_model(
-    structure: StructureSpec, spec: ModelSpec, registry: Registry | None = None, paths: tuple[str, ...] = ()
-) -> Model:
-    """The structure with the bearing model ``spec`` (module docstring)."""
-    registry = registry or get_registry()
-    if structure.is_reference:
-        params = bridge_parameters(structure)
-        if spec.preset is not None:
-            ks = DEFAULT_KS if spec.ks is None else spec.ks
-            mu = FRICTION if spec.friction is None else spec.friction
-            return reference_bridge(spec.preset, ks=ks, params=params, friction=mu)
-        return reference_bridge("M0", params=params).with_law(spec.law, spec.params)
-    base = _user_structure(structure, paths)
-    bearings = governed_bearings(structure, base)
-    if spec.preset is None:
-        return base.with_law(spec.law, spec.params, connectors=bearings)
+    friction = {} if spec.friction is None else {"friction": spec.friction}
+    laws = preset_laws(preset, bearings, ks=ks, normal_forces=normal, registry=registry, **friction)
     model = base
-    for b, (law, params) in _preset_laws(spec, base, bearings, registry).items():
-        model = model.with_law(law, params, connectors=[b])
+    for b, law in laws.items():
+        name, params = ("fixed", {}) if law is None else law
+        model = model.with_law(name, params, connectors=[b])
     return model
 
 
+def build_model(experiment: Experiment, spec: ModelSpec, registry: Registry | None = None) -> Model:
+    """The experiment's structure with the bearing model ``spec`` (module docstring)."""
+    registry = registry or registry_for(experiment.plugins, import_paths(experiment))
+    extra = _applies_presets(experiment, spec)
+    if extra is not None:
+        return structure_model(experiment, extra)
+    base = structure_model(experiment)
+    bearings = governed_bearings(experiment.structure, base)
+    if spec.law is not None:
+        return base.with_law(spec.law, spec.params, connectors=bearings)
+    return _preset_model(spec, base, bearings, registry)
+
+
 def response_elements(structure: StructureSpec, model: Model) -> tuple[str, ...]:
-    """Frame elements whose stresses are metrics (reference default: the paper's :data:`RESPONSE_ELEMENTS`)."""
-    names = structure.elements
-    if names is None:
-        names = RESPONSE_ELEMENTS if structure.is_reference else ()
+    """Frame elements whose stresses are metrics: ``[structure] elements`` (default none), checked."""
+    names = structure.elements or ()
+    recoverable = [e.name for e in model.elements if isinstance(e, FrameElement) and e.section.points]
     for name in names:
         try:
-            element = model.element(name)
+            model.element(name)
         except ParameterError:
-            raise SpecError(f"structure.elements: the model has no element {name!r}") from None
-        if not isinstance(element, FrameElement) or not element.section.points:
-            raise SpecError(f"structure.elements: {name!r} is not a frame element with stress recovery points")
+            raise SpecError(f"structure.elements: the model has no element {name!r}; its frame elements with "
+                            f"stress recovery points: {_listing(recoverable)}") from None
+        if name not in recoverable:
+            raise SpecError(f"structure.elements: {name!r} is not a frame element with stress recovery points; "
+                            f"those are {_listing(recoverable)}")
     return tuple(names)
 
 
 def deck_nodes(structure: StructureSpec, model: Model) -> tuple[str, ...]:
-    """Nodes whose absolute acceleration is a metric (reference default: both girders at every mid-span)."""
-    names = structure.deck_nodes
-    if names is None:
-        if not structure.is_reference:
-            return ()
-        g = grid(bridge_parameters(structure))
-        middles = [(a + b) // 2 for a, b in zip(g.axes, g.axes[1:])]
-        names = tuple(f"G{side}{k}" for k in middles for side in "AB")
+    """Nodes whose absolute acceleration is a metric: ``[structure] deck_nodes`` (default none), checked."""
+    names = structure.deck_nodes or ()
     for name in names:
         try:
             model.node(name)
         except ParameterError:
-            raise SpecError(f"structure.deck_nodes: the model has no node {name!r}") from None
+            raise SpecError(f"structure.deck_nodes: the model has no node {name!r}; it has "
+                            f"{_listing([n.name for n in model.nodes])}") from None
     return tuple(names)
+
+
+def lowest_frequencies(model: Model, registry: Registry, count: int = 2) -> tuple[float, ...]:
+    """The ``count`` lowest natural frequencies (Hz) of ``model``, every law at its initial tangent."""
+    from bearingfw.analysis import solve_modal
+
+    modal = solve_modal(as_system(model, registry), count)
+    return tuple(float(f) for f in modal.frequencies[:count])
+
+
+def resolved_setup(experiment: Experiment, registry: Registry):
+    """``(intensities, rayleigh)``: the intensities with an Sa period "T1" set to the first mode's period,
+    and the Rayleigh damping with ``ratio`` put at the first two natural frequencies, both of the
+    structure as its builder returns it (its own bearing laws at their initial tangent; not a
+    bearing model of the experiment, so that neither depends on which models are run). One modal
+    analysis, only when either needs it."""
+    intensities, damping = experiment.intensities, experiment.damping
+    frequencies: tuple[float, ...] = ()
+    if intensities.needs_first_period or damping.needs_frequencies:
+        what = "intensities.period" if intensities.needs_first_period else "damping"
+        try:
+            frequencies = lowest_frequencies(structure_model(experiment), registry, 2)
+        except SpecError:
+            raise
+        except Exception as exc:  # noqa: BLE001 - a structure whose modes cannot be had
+            raise SpecError(f"{what}: the structure's natural frequencies cannot be computed: "
+                            f"{type(exc).__name__}: {exc}") from None
+        if len(frequencies) < 2 or not all(f > 0 for f in frequencies):
+            raise SpecError(f"{what}: the structure has no two positive natural frequencies "
+                            f"({', '.join(f'{f:.4g}' for f in frequencies)} Hz); give [damping] ratios or alpha, "
+                            "beta, and an Sa period in seconds")
+    period = 1.0 / frequencies[0] if intensities.needs_first_period else None
+    try:
+        rayleigh = damping.rayleigh(frequencies[:2] if damping.needs_frequencies else None)
+    except SpecError as exc:
+        raise SpecError(f"damping: {exc}") from None
+    return intensities.resolve(period), rayleigh
 
 
 def _module_file(name: str, roots: Sequence[str]) -> Path | None:
@@ -310,10 +343,11 @@ def _home(module: str) -> tuple[str, ...]:
 
 def code_inputs(experiment: Experiment, registry: Registry, laws: Iterable[str], readers: Iterable[str] = ()) -> dict:
     """What code a cell's result depends on beyond its data: bearingfw's version; the version of the
-    distribution of each law ``laws``, record reader ``readers`` and the intensity scale it uses; and
-    the source files (:func:`local_sources`) of the experiment's own modules: the structure's builder
-    and the ``plugins`` modules that contribute one of those. Such a module that belongs to an
-    installed distribution (and is not in the experiment's folders) counts by that version."""
+    distribution of each law ``laws``, record reader ``readers``, the intensity scale it uses and the
+    metric families; and the source files (:func:`local_sources`) of the experiment's own modules:
+    the structure's builder and the ``plugins`` modules that contribute one of those. Such a module
+    that belongs to an installed distribution (and is not in the experiment's folders) counts by
+    that version."""
     from bearingfw import __version__
     from bearingfw.motion.intensity import DEFAULT_SCALE_NAME
 
@@ -322,11 +356,15 @@ def code_inputs(experiment: Experiment, registry: Registry, laws: Iterable[str],
     origins += [registry.record_readers[name].origin for name in sorted(set(readers))]
     scale = registry.intensity_scales.get(experiment.intensities.scale or DEFAULT_SCALE_NAME)
     origins += [scale.origin] if scale is not None else []
+    origins += [entry.origin for entry in registry.metrics.values()]  # the metrics are part of a cell's result
     distributions = {o.distribution: o.version for o in origins if o.distribution}
     sources: dict = {}
     own = {o.plugin.partition(":")[2] for o in origins if o.plugin.startswith("experiment:")}
-    if not experiment.structure.is_reference:
-        own.add(experiment.structure.builder.partition(":")[0])
+    builder, folders = import_location(experiment.structure.builder, base_dir=experiment.base_dir,
+                                       python_path=experiment.python_path)
+    if builder.partition(".")[0] != "bearingfw":  # bearingfw's own builders count by its version
+        own.add(builder)
+        paths = tuple(dict.fromkeys((*folders, *paths)))
     for name in sorted(own):
         if _module_file(name, paths) is not None:
             sources[name] = local_sources(name, paths)

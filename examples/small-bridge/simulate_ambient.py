@@ -10,7 +10,7 @@ check them and ``bearingfw tune`` can pair the identified shapes there:
 
     python examples/small-bridge/simulate_ambient.py --out ambient.npz
 
-The file (NPZ, about 2.4 MB for the default 600 s at 50 Hz) is not part of the repository: the
+The file (NPZ, about 2.6 MB for the default 600 s at 50 Hz) is not part of the repository: the
 script writes it in a few seconds.
 """
 

@@ -16,9 +16,13 @@ A *structure spec* names a function that returns a :class:`bearingfw.model.Model
 
 The options are the function's keyword arguments (``--option key=value`` on the command line,
 ``[structure] options`` in an experiment file). Every failure - module or file not found, an error
-while importing it, no such function, a keyword the function does not take, the builder raising,
-a result that is not a Model - is a :class:`StructureError` (a :class:`ParameterError`) whose
-message names the spec and what is wrong, so the commands print one line, not a traceback.
+while importing it, no such function, a keyword the function does not take, the builder raising
+(or calling ``sys.exit``), a result that is not a Model - is a :class:`StructureError` (a
+:class:`ParameterError`) whose message names the spec and what is wrong, so the commands print one
+line, not a traceback. When the builder (or, with ``check``, the model's bearing laws) refuses a
+value, the failure is put on the one option without which the model builds, if there is one
+(:attr:`StructureError.option`), and the message starts with how the user gave it
+(``origins``: ``--option k=abc``, ``--param k = 1e+07 (LOW)``).
 """
 
 from __future__ import annotations
@@ -49,9 +53,13 @@ __all__ = [
     "StructureError",
     "build_structure",
     "builder_keywords",
+    "builder_signature",
     "import_location",
     "load_builder",
+    "on_path",
+    "option_origins",
     "parse_options",
+    "reference_ignores",
     "reference_options",
     "reference_parameters",
 ]
@@ -76,7 +84,13 @@ _FORMS = f"{REFERENCE!r}, 'package.module:function' or 'path/to/file.py:function
 
 
 class StructureError(ParameterError):
-    """A structure spec or its options cannot give a model (the message says which and why)."""
+    """A structure spec or its options cannot give a model (the message says which and why).
+
+    ``option``: the option the failure is put on, when one alone causes it (else None)."""
+
+    def __init__(self, message: str, option: str | None = None):
+        super().__init__(message)
+        self.option = option
 
 
 # --- the reference bridge ---------------------------------------------------------------------
@@ -115,6 +129,30 @@ def reference_parameters(options: Mapping) -> tuple[str, float, float, object]:
     return preset, float(ks), float(friction), params
 
 
+def reference_ignores(options: Mapping, name: str) -> str | None:
+    """The reference bridge's preset in ``options`` if its bearing law does not use ``name`` (``"ks"`` or
+    ``"friction"``), else None: M0 (frictionless) has no K_s, so calibrating ``ks`` on it changes nothing.
+
+    The preset is asked for one bearing's law at two values of ``name`` (presets come from plugins:
+    their laws are the only record of what they read)."""
+    from bearingfw.bridges import DEFAULT_KS
+    from bearingfw.bridges.paper import FRICTION
+    from bearingfw.bridges.presets import find_preset
+    from bearingfw.plugins import PresetBearing
+
+    if name not in ("ks", "friction"):
+        return None
+    preset = options.get("preset", "M0")
+    chosen = find_preset(preset)
+    dead_load = 1e6 if chosen.needs_dead_load else None  # any compressive force: only the difference matters
+    laws = []
+    for factor in (1.0, 0.5):
+        values = {"ks": DEFAULT_KS, "friction": FRICTION}
+        values[name] *= factor
+        laws.append(chosen.law(PresetBearing("probe", values["ks"], values["friction"], dead_load)))
+    return None if laws[0] != laws[1] else chosen.name
+
+
 def _reference_bridge(**options) -> Model:
     """The paper's bridge with ``preset``/``ks``/``friction`` and BridgeParameters ``options``."""
     from bearingfw.bridges import reference_bridge
@@ -130,7 +168,7 @@ def _reference_bridge(**options) -> Model:
 
 
 @contextlib.contextmanager
-def _on_path(paths: Iterable[str]):
+def on_path(paths: Iterable[str]):
     """``paths`` in front of ``sys.path`` while the block runs (modules imported stay imported)."""
     added = [p for p in dict.fromkeys(paths) if p not in sys.path]
     sys.path[:0] = added
@@ -192,11 +230,15 @@ def _user_error(spec: str, doing: str, exc: BaseException) -> StructureError:
     # the innermost frame outside Python's import machinery and bearingfw itself: the user's line
     ours = str(Path(__file__).resolve().parent)
     user = [f for f in frames if "importlib" not in f.filename and not f.filename.startswith(("<frozen", ours))]
+    text = str(exc)
     if isinstance(exc, SyntaxError) and exc.filename:
+        text = exc.msg  # str() of a SyntaxError adds "(file, line n)": the location is given once, below
         where = f" ({exc.filename}, line {exc.lineno})"
     elif user:
         where = f" ({user[-1].filename}, line {user[-1].lineno})"
-    return StructureError(f"structure {spec!r}: {doing} failed: {type(exc).__name__}: {exc}{where}")
+    if isinstance(exc, SystemExit):
+        return StructureError(f"structure {spec!r}: {doing} failed: it called sys.exit({exc.code!r}){where}")
+    return StructureError(f"structure {spec!r}: {doing} failed: {type(exc).__name__}: {text}{where}")
 
 
 def _import_file(spec: str, path: Path, folders: tuple[str, ...]):
@@ -209,9 +251,9 @@ def _import_file(spec: str, path: Path, folders: tuple[str, ...]):
         loaded = sys.modules.get(name)
         if loaded is None or _same_file(getattr(loaded, "__file__", None), path):
             try:
-                with _on_path(folders):
+                with on_path(folders):
                     module = importlib.import_module(name)
-            except Exception as exc:  # noqa: BLE001 - whatever the user's module raises
+            except (Exception, SystemExit) as exc:  # noqa: BLE001 - whatever the user's module raises
                 raise _user_error(spec, f"importing file {str(path)!r}", exc) from None
             if _same_file(getattr(module, "__file__", None), path):
                 return module
@@ -223,9 +265,9 @@ def _import_file(spec: str, path: Path, folders: tuple[str, ...]):
     module = importlib.util.module_from_spec(loader_spec)
     sys.modules[unique] = module
     try:
-        with _on_path(folders):
+        with on_path(folders):
             loader_spec.loader.exec_module(module)
-    except Exception as exc:  # noqa: BLE001
+    except (Exception, SystemExit) as exc:  # noqa: BLE001
         del sys.modules[unique]
         raise _user_error(spec, f"importing file {str(path)!r}", exc) from None
     return module
@@ -241,7 +283,7 @@ def _same_file(a, b: Path) -> bool:
 
 def _import_module(spec: str, name: str, folders: tuple[str, ...]):
     try:
-        with _on_path(folders):
+        with on_path(folders):
             return importlib.import_module(name)
     except ModuleNotFoundError as exc:
         if exc.name and (name == exc.name or name.startswith(exc.name + ".")):
@@ -250,7 +292,7 @@ def _import_module(spec: str, name: str, folders: tuple[str, ...]):
                 f"{', '.join(folders) or 'no extra folder'}; a file is named as 'path/to/file.py:function')"
             ) from None
         raise _user_error(spec, f"importing module {name!r}", exc) from None
-    except Exception as exc:  # noqa: BLE001 - whatever the user's module raises
+    except (Exception, SystemExit) as exc:  # noqa: BLE001 - whatever the user's module raises
         raise _user_error(spec, f"importing module {name!r}", exc) from None
 
 
@@ -279,26 +321,34 @@ def load_builder(
     return builder
 
 
-def builder_keywords(builder: Callable[..., Model]) -> dict[str, object] | None:
-    """The keyword arguments ``builder`` takes, with their defaults (``inspect.Parameter.empty`` if
-    required); None if it takes any keyword (``**kwargs``) other than the reference bridge's."""
+def builder_signature(builder: Callable[..., Model]) -> tuple[dict[str, object], bool]:
+    """``(named, takes_any)``: the keyword arguments ``builder`` names, with their defaults
+    (``inspect.Parameter.empty`` if required), and whether it takes any other (``**kwargs``, or a
+    signature that cannot be read)."""
     if builder is _reference_bridge:
         from bearingfw.bridges import DEFAULT_KS, BridgeParameters
         from bearingfw.bridges.paper import FRICTION
 
         fields = {f.name: f.default for f in attrs.fields(BridgeParameters)}
-        return {"preset": "M0", "ks": DEFAULT_KS, "friction": FRICTION, **fields}
+        return {"preset": "M0", "ks": DEFAULT_KS, "friction": FRICTION, **fields}, False
     try:
         signature = inspect.signature(builder)
     except (TypeError, ValueError):
-        return None
-    out = {}
+        return {}, True
+    named, takes_any = {}, False
     for p in signature.parameters.values():
         if p.kind is inspect.Parameter.VAR_KEYWORD:
-            return None
-        if p.kind in (inspect.Parameter.POSITIONAL_OR_KEYWORD, inspect.Parameter.KEYWORD_ONLY):
-            out[p.name] = p.default
-    return out
+            takes_any = True
+        elif p.kind in (inspect.Parameter.POSITIONAL_OR_KEYWORD, inspect.Parameter.KEYWORD_ONLY):
+            named[p.name] = p.default
+    return named, takes_any
+
+
+def builder_keywords(builder: Callable[..., Model]) -> dict[str, object] | None:
+    """The keyword arguments ``builder`` takes, with their defaults (``inspect.Parameter.empty`` if
+    required); None if it takes any keyword (``**kwargs``) other than the reference bridge's."""
+    named, takes_any = builder_signature(builder)
+    return None if takes_any else named
 
 
 def _check_keywords(spec: str, options: Mapping, accepted: Iterable[str], takes_any: bool) -> None:
@@ -316,6 +366,12 @@ def _check_keywords(spec: str, options: Mapping, accepted: Iterable[str], takes_
 
 
 # --- options -----------------------------------------------------------------------------------
+
+
+def option_origins(pairs: Iterable[str] | None) -> dict[str, str]:
+    """``{key: "--option key=value"}`` of the command line's ``--option`` pairs (as the user wrote them),
+    the ``origins`` of :func:`build_structure`."""
+    return {pair.partition("=")[0].strip(): f"--option {pair.strip()}" for pair in pairs or () if isinstance(pair, str)}
 
 
 def parse_options(pairs: Iterable[str] | None) -> dict:
@@ -355,8 +411,17 @@ def build_structure(
     *,
     base_dir: Path | str | None = None,
     python_path: Sequence[str | Path] = (),
+    check: bool = False,
+    origins: Mapping[str, str] | None = None,
 ) -> Model:
-    """The model ``spec``'s builder returns when called with ``options`` as keyword arguments."""
+    """The model ``spec``'s builder returns when called with ``options`` as keyword arguments.
+
+    ``check``: also assemble the model (:func:`bearingfw.model.build_system`), where the bearing
+    laws check their parameters, so that a value the model refuses fails here. A failure of the
+    builder or of that check is put on the one option without which the model builds, if there is
+    one (module docstring); ``origins[key]`` says how the user gave that option (default
+    ``option key = value``).
+    """
     options = dict(options or {})
     builder = load_builder(spec, base_dir=base_dir, python_path=python_path)
     accepted = builder_keywords(builder)
@@ -366,13 +431,47 @@ def build_structure(
         if missing:
             raise StructureError(f"structure {spec!r}: option(s) {', '.join(map(repr, missing))} required")
     try:
+        return _call_builder(spec, builder, options, check)
+    except StructureError as exc:
+        culprit = _culprit(spec, builder, options, check, accepted)
+        if culprit is None:
+            raise
+        origin = (origins or {}).get(culprit) or f"option {culprit} = {options[culprit]!r}"
+        raise StructureError(f"{origin}: {exc}", option=culprit) from None
+
+
+def _call_builder(spec: str, builder: Callable[..., Model], options: Mapping, check: bool) -> Model:
+    try:
         model = builder(**options)
     except StructureError:
         raise
     except ParameterError as exc:
         raise StructureError(f"structure {spec!r}: {exc}") from None
-    except Exception as exc:  # noqa: BLE001 - the user's builder failing, whatever the error
+    except (Exception, SystemExit) as exc:  # noqa: BLE001 - the user's builder failing, whatever the error
         raise _user_error(spec, "calling the builder", exc) from None
     if not isinstance(model, Model):
         raise StructureError(f"structure {spec!r}: the builder returned {type(model).__name__}, not a bearingfw Model")
+    if check:
+        from bearingfw.model import build_system
+
+        try:
+            build_system(model)
+        except ParameterError as exc:
+            raise StructureError(f"structure {spec!r}: {exc}") from None
     return model
+
+
+def _culprit(spec: str, builder, options: Mapping, check: bool, accepted: Mapping | None) -> str | None:
+    """The one option without which (at the builder's default) the model builds, or None.
+
+    Only asked when building failed, so its cost (one build per option) is paid on that path."""
+    keys = [k for k in options if accepted is None or accepted.get(k, inspect.Parameter.empty)
+            is not inspect.Parameter.empty]
+    found = []
+    for key in keys:
+        try:
+            _call_builder(spec, builder, {k: v for k, v in options.items() if k != key}, check)
+        except StructureError:
+            continue
+        found.append(key)
+    return found[0] if len(found) == 1 else None

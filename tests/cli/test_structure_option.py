@@ -32,6 +32,7 @@ from bearingfw.structures import (
     import_location,
     load_builder,
     parse_options,
+    reference_ignores,
 )
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "small-bridge"
@@ -60,6 +61,14 @@ def not_a_model():
 
 def broken(height=1.0):
     return 1 / 0
+
+
+def exits():
+    raise SystemExit(3)
+
+
+def build_any(height=10.0, n=20, modulus=210e9, **rest):
+    return build(height, n, modulus)
 
 
 VALUE = 3
@@ -149,6 +158,7 @@ def test_the_reference_bridge_takes_its_preset_and_bridge_parameters():
         (REFERENCE, {"kss": 1.0}, r"unknown option 'kss' \(did you mean ks\?\)"),
         (REFERENCE, {"spans": "long"}, "structure 'reference': "),
         (REFERENCE, {"ks": True}, "option 'ks' must be a number"),
+        ("mast:exits", {}, r"calling the builder failed: it called sys.exit\(3\) \(.*mast.py, line \d+\)"),
     ],
 )
 def test_structure_errors_name_the_spec_and_the_problem(mast, spec, options, message):
@@ -161,12 +171,42 @@ def test_structure_errors_name_the_spec_and_the_problem(mast, spec, options, mes
 
 def test_errors_while_importing_the_users_module(tmp_path):
     (tmp_path / "syntax.py").write_text("def build(:\n")
-    with pytest.raises(StructureError, match=r"importing module 'syntax' failed: SyntaxError.*syntax.py, line 1"):
+    with pytest.raises(StructureError,
+                       match=r"importing module 'syntax' failed: SyntaxError.*syntax.py, line 1") as info:
         load_builder("syntax:build", base_dir=tmp_path)
+    assert str(info.value).count("line 1") == 1  # the location once
     (tmp_path / "needs.py").write_text("import not_installed_anywhere\n")
     with pytest.raises(StructureError, match="importing file .* failed: ModuleNotFoundError: No module named "
                                              "'not_installed_anywhere'"):
         load_builder("needs.py:build", base_dir=tmp_path)
+
+
+def test_a_failure_is_put_on_the_option_that_causes_it(mast):
+    """The builder refusing a value: the message starts with how the user gave the one option without
+    which the model builds; with check, the bearing laws' refusals too (they check at assembly)."""
+    with pytest.raises(StructureError, match=r"^--option modulus=-1: structure 'mast:build': .*'E' = -1.0") as info:
+        build_structure("mast:build", {"n": 4, "modulus": -1.0}, base_dir=mast,
+                        origins={"modulus": "--option modulus=-1"})
+    assert info.value.option == "modulus"
+    with pytest.raises(StructureError, match=r"^option modulus = -1.0: "):
+        build_structure("mast:build", {"n": 4, "modulus": -1.0}, base_dir=mast)
+    # a law parameter refused when the model is assembled: only with check
+    assert isinstance(build_structure(BRIDGE, {"bearing_stiffness": -5.0, "span": 20.0}), Model)
+    with pytest.raises(StructureError, match=r"^option bearing_stiffness = -5.0: .*'k' = -5.0 is outside") as info:
+        build_structure(BRIDGE, {"bearing_stiffness": -5.0, "span": 20.0}, check=True)
+    assert info.value.option == "bearing_stiffness"
+    # the builder fails whatever the options: nothing to put it on
+    with pytest.raises(StructureError, match=r"^structure 'mast:broken': calling the builder failed") as info:
+        build_structure("mast:broken", {"height": 2.0}, base_dir=mast)
+    assert info.value.option is None
+
+
+def test_which_reference_bearing_models_use_ks_and_friction():
+    """Asked of the presets' laws themselves: M0 slides freely (no K_s), M1 is springs K_s (no friction)."""
+    assert reference_ignores({}, "ks") == "M0" and reference_ignores({"preset": "M1"}, "ks") is None
+    assert reference_ignores({"preset": "M1"}, "friction") == "M1"
+    assert reference_ignores({"preset": "M2"}, "friction") is None
+    assert reference_ignores({"preset": "M0"}, "girder_depth") is None  # not a bearing option
 
 
 def test_a_required_keyword_must_be_given(tmp_path):
@@ -195,7 +235,7 @@ def test_bad_options_name_the_pair(pairs, message):
 
 
 def test_structures_imports_only_the_layers_below_it():
-    allowed = ("bearingfw.model", "bearingfw.parameters", "bearingfw.bridges")
+    allowed = ("bearingfw.plugins", "bearingfw.model", "bearingfw.parameters", "bearingfw.bridges")
     path = Path(bearingfw.__file__).parent / "structures.py"
     ours = [n for n in imported_modules(path) if n.startswith("bearingfw")]
     assert ours and all(n.startswith(allowed) for n in ours), ours
@@ -248,11 +288,14 @@ def test_modal_json_of_the_small_bridge(capsys):
         (["--structure", BRIDGE, "--option", "span"], "--option 'span': expected key=value"),
         (["--structure", "nowhere:build"], "module 'nowhere' not found"),
         (["--model", "M1", "--option", "preset=M2"], "--model and --option preset=... both give the preset"),
+        (["--option", "preset=M9"], "--option preset must be one of M0, M1, M2"),
+        (["--structure", BRIDGE, "--option", "bearing_stiffness=-5"],
+         "--option bearing_stiffness=-5: structure '"),
     ],
 )
 def test_modal_structure_errors(capsys, argv, message):
     code, out, err = run(capsys, "modal", *argv)
-    assert code == 1 and message in err and "Traceback" not in err and out == ""
+    assert code == 2 and message in err and "Traceback" not in err and out == ""
 
 
 # -- bearingfw oma --structure: channel names against the model's DOFs ---------------------------------
@@ -266,14 +309,14 @@ def _record(path, names, samples=400):
 def test_oma_refuses_a_channel_the_structure_lacks_and_lists_near_matches(capsys, tmp_path):
     path = _record(tmp_path / "typo.csv", ("G4.uz", "G44.uz"))
     code, _, err = run(capsys, "oma", path, "--structure", BRIDGE)
-    assert code == 1
-    assert "channel 'G44.uz': the model two-span girder has no node 'G44'; near matches:" in err and "G4.uz" in err
+    assert code == 2
+    assert "channel 'G44.uz': the model has no node 'G44' (in 'two-span girder'; near matches: G4.uz," in err
     code, _, err = run(capsys, "oma", path, "--structure", BRIDGE, "--decay", "2.5")
-    assert code == 1 and "no node 'G44'" in err
+    assert code == 2 and "no node 'G44'" in err
     code, _, err = run(capsys, "oma", path, "--option", "span=20")
-    assert code == 1 and "give --structure SPEC too" in err
+    assert code == 2 and "give --structure SPEC too" in err
     code, _, err = run(capsys, "oma", _record(tmp_path / "plain.csv", ("acc1", "G4.uz")), "--structure", BRIDGE)
-    assert code == 1 and "channel 'acc1' does not name a DOF: expected '<node>.<component>'" in err
+    assert code == 2 and "channel 'acc1' does not name a DOF: expected '<node>.<component>'" in err
 
 
 def test_oma_warns_of_channels_at_supported_dofs(capsys, tmp_path):
@@ -351,9 +394,54 @@ def test_tune_against_hand_written_labelled_modes(capsys):
         (["--option", "span=20"], "apply to --structure"),
         (["--structure", BRIDGE, "--param", "span=10:30", "--measured", "{toml}", "--modes", "9"],
          "no measured mode 9"),
+        # a value the model refuses: named with the --param or --option that gave it
+        (["--structure", BRIDGE, "--param", "bearing_stiffness=-1e8:1e10", "--measured", "{toml}"],
+         "--param bearing_stiffness = -1e+08 (LOW): connector '1A': field 'law_params'"),
+        (["--structure", BRIDGE, "--param", "bearing_stiffness=-1e8:1e10:-5e7", "--measured", "{toml}"],
+         "--param bearing_stiffness = -5e+07 (START): structure '"),
+        (["--structure", BRIDGE, "--param", "bearing_stiffness=1e7:1e10", "--option", "concrete_modulus=abc",
+          "--measured", "{toml}"], "--option concrete_modulus=abc: structure '"),
+        (["--structure", BRIDGE, "--param", "elements_per_span=4:12", "--measured", "{toml}"],
+         "--param elements_per_span: the structure's function declares elements_per_span an integer"),
+        # the default bearing model of the reference bridge (M0, frictionless) has no K_s
+        (["--param", "ks=1e7:1e10", "--measured", "{toml}"],
+         "--param ks: the reference bridge's bearing model M0 does not use ks"),
     ],
 )
 def test_tune_structure_errors(capsys, argv, message):
     argv = [a.replace("{toml}", str(EXAMPLE / "measured-modes.toml")) for a in argv]
     code, out, err = run(capsys, "tune", *argv)
-    assert code == 1 and message in err and "Traceback" not in err and out == ""
+    assert code == 2 and message in err and "Traceback" not in err and out == ""
+
+
+def test_tune_names_its_doubts_about_the_command_line(capsys, mast):
+    """A --param that a **kwargs builder does not name (a typo it would silently take), --min-mac with modes
+    paired by label, and the MAC printed to three decimals, by shape."""
+    spec = f"{mast / 'mast.py'}:build_any"
+    modal = solve_modal(build_structure(spec, {"n": 6}), 4)
+    channels = ["N3.ux", "N6.ux", "N3.uy", "N6.uy"]
+    dofs = [modal.system.dofmap.dof(*c.split(".")) for c in channels]
+    shapes = mast / "shapes.json"
+    shapes.write_text(json.dumps({"channels": channels, "modes": [
+        {"frequency": float(modal.frequencies[m]), "shape": modal.shapes[dofs, m].tolist()} for m in (0, 1)]}))
+    code, out, err = run(capsys, "tune", "--structure", spec, "--option", "n=6", "--param", "modulus=1e11:4e11",
+                         "--param", "modulu=1:2", "--measured", shapes, "--scan", "3")
+    assert code == 0, err
+    assert "warning: --param modulu: the structure's function does not name a parameter 'modulu'" in out
+    assert "(did you mean modulus?)" in out and "no measured mode is sensitive to --param modulu" in out
+    assert float(out.split("modulus: ")[1].split()[0]) == pytest.approx(210e9, rel=1e-4)
+    table = out.split("MAC table")[1].splitlines()[1]
+    assert table.split()[-2:] == ["1.000", "0.000"]  # three decimals
+    labels = mast / "labels.json"
+    labels.write_text(json.dumps({"modes": [{"frequency": float(modal.frequencies[0]),
+                                             "label": modal.numbered_labels[0]}]}))
+    code, out, err = run(capsys, "tune", "--structure", spec, "--option", "n=6", "--param", "modulus=1e11:4e11",
+                         "--measured", labels, "--min-mac", "0.9", "--scan", "0", "--json")
+    assert code == 0, err
+    assert any(w.startswith("--min-mac 0.9 does nothing here") for w in json.loads(out)["warnings"])
+
+
+def test_one_modal_analysis_is_one():
+    from bearingfw.cli.tune import _analyses
+
+    assert (_analyses(1), _analyses(11)) == ("1 modal analysis", "11 modal analyses")

@@ -47,6 +47,10 @@ def test_report_tables_and_json():
     data = json.loads(json.dumps(report.to_dict()))
     assert [m["name"] for m in data["modes"]] == ["vertical 1", "lateral 1", "vertical 2"]
     assert data["variables"]["Iy"]["initial"] == 3e-3
+    # at the initial values: "start" (the commands keep "before" for the model before tuning)
+    assert {"start", "error_start", "label_start"} <= set(data["modes"][0]) and "before" not in data["modes"][0]
+    first = data["modes"][0]
+    assert first["error_start"] == pytest.approx(first["start"] / first["measured"] - 1)
     # a uniform bending stiffness leaves the shapes as they were: MAC 1 on the diagonal; the
     # vertical and lateral modes move in perpendicular planes: MAC 0 between them
     np.testing.assert_allclose(np.diag(report.mac_before_after), 1.0, rtol=1e-9)
@@ -65,3 +69,32 @@ def test_bad_variables_are_named(variables, message):
 def test_build_must_return_a_model():
     with pytest.raises(ParameterError, match="Model"):
         calibrate(lambda v: "not a model", measured(1), {"Iy": (3e-3, 1e-4, 1e-1)})
+
+
+@pytest.mark.parametrize(
+    "bounds",
+    [(TRUE["Iy"] / 1.3, 1e-1), (1e-4, TRUE["Iy"] * 1.05)],
+    ids=["truth 1.3 x LOW, start at LOW", "truth near HIGH, start at HIGH"],
+)
+def test_a_start_on_a_bound_still_moves(bounds):
+    """A start exactly on a bound (where a scan often ends) must not freeze the fit: a finite-difference
+    step relative to a scaled variable near 0 there would vanish, and so would the Jacobian."""
+    low, high = bounds
+    start = low if TRUE["Iy"] / low < 2 else high
+    report = calibrate(lambda Iy: cantilever(Iy=Iy, Iz=TRUE["Iz"]), measured(), {"Iy": (start, low, high)}, n_modes=6)
+    assert report.values["Iy"] == pytest.approx(TRUE["Iy"], rel=1e-6)
+    assert np.max(np.abs(report.errors_after)) < 1e-6
+    assert report.evaluations > 3  # it iterated
+
+
+def test_every_trial_stays_within_the_bounds():
+    """The Jacobian is one-sided at a bound: a builder that refuses values outside [low, high] is never asked."""
+    low, high = 2e-3, TRUE["Iy"]  # the truth on the upper bound: the fit ends there
+
+    def build(Iy):
+        if not low <= Iy <= high:
+            raise AssertionError(f"asked for Iy = {Iy!r} outside [{low}, {high}]")
+        return cantilever(Iy=Iy, Iz=TRUE["Iz"])
+
+    report = calibrate(build, measured(), {"Iy": (3e-3, low, high)}, n_modes=6)
+    assert report.values["Iy"] == pytest.approx(high, rel=1e-4)

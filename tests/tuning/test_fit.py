@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import inspect
 import json
 import math
 
@@ -124,3 +125,80 @@ def test_options_are_checked(field, value):
 
 def test_beam_nodes_are_the_channels_nodes():
     assert {c.partition(".")[0] for c in CHANNELS} <= set(beam_nodes())
+
+
+def test_a_scan_that_ends_on_a_bound_still_moves(truth):
+    """Truth 1.3 x LOW: the scan's best point is LOW itself, where the least squares must still move."""
+    low = TRUE["Iy"] / 1.3
+    fit = fit_parameters(build, labelled(truth), {"Iy": (1e-2, low, 1.0)}, FitOptions(n_modes=8))
+    assert fit.scan_start["Iy"] == low
+    assert fit.values["Iy"] == pytest.approx(TRUE["Iy"], rel=1e-6)
+    assert not any("bound" in w for w in fit.warnings)
+
+
+def test_sensitivities_at_a_bound_are_one_sided_and_stay_within_it(truth):
+    """The fit ends on HIGH (the truth); the sensitivity step must not leave [LOW, HIGH], and a one-sided
+    difference still gives the closed form d ln f / d ln Iy = 1/2 (f goes as sqrt(Iy) exactly)."""
+    low, high = 2e-3, TRUE["Iy"]
+
+    def bounded(values):
+        if not low <= values["Iy"] <= high:
+            raise ParameterError(f"Iy = {values['Iy']!r} is outside [{low}, {high}]")
+        return build(values)
+
+    fit = fit_parameters(bounded, labelled(truth), {"Iy": (3e-3, low, high)}, FitOptions(n_modes=6, scan_points=3))
+    np.testing.assert_allclose(fit.sensitivity[:, 0], [0.5, 0.0, 0.5], atol=1e-9)
+
+
+def test_a_refused_trial_value_is_named_with_its_trial(truth):
+    def picky(values):
+        if values["Iy"] < 2e-3:
+            raise ParameterError("the girder is too slender")
+        return build(values)
+
+    describe = "--param {}".format
+    with pytest.raises(ParameterError, match=r"^--param Iy = 0.001 \(LOW\): the girder is too slender$"):
+        fit_parameters(picky, labelled(truth), {"Iy": (3e-3, 1e-3, 1e-1)}, FitOptions(n_modes=6), describe=describe)
+    with pytest.raises(ParameterError, match=r"^--param Iy = 0.0015 \(START\): the girder is too slender$"):
+        fit_parameters(picky, labelled(truth), {"Iy": (1.5e-3, 1e-3, 1e-1)}, FitOptions(n_modes=6), describe=describe)
+
+    def gap(values):  # refuses a band inside the bounds, where the scan's second point falls (1e-3)
+        if 5e-4 < values["Iy"] < 2e-3:
+            raise ParameterError("no such section")
+        return build(values)
+
+    with pytest.raises(ParameterError, match=r"^Iy = 0.001 \(a scan point\): no such section$"):
+        fit_parameters(gap, labelled(truth), {"Iy": (3e-3, 1e-4, 1e-1)}, FitOptions(n_modes=6, scan_points=4))
+
+
+def test_frequencies_in_rad_per_second_are_warned_about(truth):
+    """2 pi times the frequencies: no Iy within bounds matches, and the lateral mode does not depend on Iy."""
+    data = labelled(truth)
+    radians = measured_modes({"modes": [{"frequency": 2 * math.pi * m.frequency, "label": m.label}
+                                        for m in data.measurements]})
+    fit = fit_parameters(build, radians, {"Iy": (3e-3, 1e-4, 1e-1)}, FitOptions(n_modes=6, scan_points=3))
+    (warning,) = [w for w in fit.warnings if "rad/s" in w]
+    assert "lateral 1 is still -84.1% off" in warning and "in Hz" in warning
+
+
+def test_json_before_is_at_the_start_everywhere(truth):
+    """'before' means at START in every part of the JSON; the least squares' own start is 'calibration.from'."""
+    fit = fit_parameters(build, labelled(truth), {"Iy": (3e-3, 1e-4, 1e-1)}, FitOptions(n_modes=6))
+    data = json.loads(json.dumps(fit.to_dict()))
+    assert data["parameters"]["Iy"]["start"] == 3e-3 != data["parameters"]["Iy"]["scan_start"]
+    assert data["calibration"]["from"] == {"Iy": data["parameters"]["Iy"]["scan_start"]}
+    assert "modes" not in data["calibration"] and "variables" not in data["calibration"]
+    before_at_start = solve_modal(build({"Iy": 3e-3}), 6)
+    for mode in data["modes"]:
+        assert data["before"][mode["name"]] == mode["before"]
+        at_start = before_at_start.numbered_labels.index(mode["label_before"])
+        assert mode["before"] == pytest.approx(before_at_start.frequencies[at_start], rel=1e-12)
+
+
+def test_the_reference_studys_fit_is_this_one():
+    """bearingfw.bridges.study's fit of K_s to identified modes screens, scans and warns with tuning's code."""
+    import bearingfw.tuning as tuning
+    from bearingfw.bridges import study
+
+    assert study.screen_by_mac is tuning.screen_by_mac and study.channel_warnings is tuning.channel_warnings
+    assert "fit_parameters(" in inspect.getsource(study.calibrate_ks_to_identified)

@@ -9,7 +9,7 @@ import pytest
 
 from bearingfw.oma import IdentifiedMode, IdentifiedModes, write_modes
 from bearingfw.parameters import ParameterError
-from bearingfw.tuning import measured_modes, read_measured
+from bearingfw.tuning import from_identified, identified_measurements, measured_modes, read_measured
 
 TOML = """
 source = "hand test"
@@ -85,6 +85,13 @@ def test_the_output_of_bearingfw_oma_is_a_measured_modes_file(tmp_path):
         ({"modes": [{"frequency": 2.0, "label": "vertical 1"}, {"frequency": 3.0, "label": "vertical 1"}]},
          "share the name"),
         ({"channels": ["N1.uz", "N1.uz"], "modes": [{"frequency": 2.0, "label": "vertical 1"}]}, "twice"),
+        # two names, one label: both would pair with one computed mode
+        ({"modes": [{"frequency": 2.5, "label": "vertical 1", "name": "a"},
+                    {"frequency": 2.6, "label": "vertical 1", "name": "b"}]},
+         r"need distinct labels.*\('vertical 1': 'a', 'b'\)"),
+        ({"modes": [{"frequency": 2.0, "label": "vertical 1", "damping": 2.0}]},
+         r"'damping' is a damping ratio, 0 <= damping < 1 \(2 % is 0.02\), got 2.0"),
+        ({"modes": [{"frequency": 2.0, "label": "vertical 1", "damping": -0.02}]}, "0 <= damping < 1"),
     ],
 )
 def test_bad_files_are_named(data, message):
@@ -101,3 +108,26 @@ def test_unreadable_files(tmp_path):
     (tmp_path / "bad.txt").write_text("frequency = 1")
     with pytest.raises(ParameterError, match="not JSON .* must end in .toml"):
         read_measured(tmp_path / "bad.txt")
+
+
+def test_a_label_shared_by_modes_paired_by_shape_is_no_matter():
+    """By MAC the labels are not used: two modes may carry the same (e.g. as first guessed)."""
+    modes = measured_modes({"modes": [{"frequency": 2.5, "label": "vertical 1", "name": "a", "shape": {"N1.uz": 1.0}},
+                                      {"frequency": 2.6, "label": "vertical 1", "name": "b", "shape": {"N1.uz": 0.5}}]})
+    assert modes.pair_by == "mac"
+
+
+def test_identified_modes_are_measured_modes_and_select_the_same_way():
+    identified = IdentifiedModes(("N1.uz", "N2.uy"), [IdentifiedMode(1.5, 0.02, [1.0, -0.3]),
+                                                      IdentifiedMode(2.5, 0.03, [0.2, 1.0], name="sway")],
+                                 {"synthetic": True, "source": "simulated", "dt": 0.02})
+    modes = from_identified(identified)
+    assert modes.pair_by == "mac" and modes.channels == ("N1.uz", "N2.uy") and modes.names == ("mode 1", "sway")
+    assert modes.damping == {"mode 1": 0.02, "sway": 0.03}
+    assert modes.metadata == {"synthetic": True, "source": "simulated"}
+    measurements, channels = identified_measurements(identified, ["sway", 1])
+    assert [m.name for m in measurements] == ["sway", "mode 1"] and channels == ("N1.uz", "N2.uy")
+    with pytest.raises(ParameterError, match=r"^identified_measurements: a mode is chosen twice"):
+        identified_measurements(identified, [1, "mode 1"])
+    with pytest.raises(ParameterError, match=r"^--modes: no measured mode 'sways'; modes: 1 \(mode 1, 1.500 Hz\)"):
+        modes.select(["sways"])

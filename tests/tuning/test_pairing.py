@@ -61,8 +61,16 @@ def test_modes_the_sensors_do_not_see_are_left_out(beam_and_mast):
 
 
 def test_missing_label_is_a_pairing_error_that_lists_what_there_is(beam):
-    with pytest.raises(PairingError, match=r"torsional 3.*eligible: .*vertical 1"):
+    with pytest.raises(PairingError, match=r"torsional 3.*they are: .*vertical 1") as info:
         pair_modes(beam, [("torsional 3", 5.0)])
+    assert "observation" not in str(info.value) and "eligible" not in str(info.value)  # no internal words
+
+
+def test_two_measurements_with_one_label_are_refused(beam):
+    """Both would pair with the same computed mode (the second one's frequency fitted to the first's)."""
+    with pytest.raises(ParameterError, match="two measured modes have the label 'vertical 1'"):
+        pair_modes(beam, [Measurement(2.5, label="vertical 1", name="a"), Measurement(2.6, label="vertical 1",
+                                                                                        name="b")])
 
 
 @pytest.mark.parametrize(

@@ -17,9 +17,10 @@ bridge modules that import tuning, and nothing in tuning imports bridges.
 - :func:`paper_sensors`: the paper's measurement points P1..P7 as deck channels (``"GA12.uz"``),
   for simulated ambient tests and for pairing modes identified by ``bearingfw oma`` by MAC.
 - :func:`calibrate_ks_to_identified` (step 1 with identified modes, ``bearingfw tune
-  --measured``): modes identified by ``bearingfw oma`` paired by MAC at their channels; those
-  that pair with no computed mode well enough are dropped and named; a scan of K_s starts the
-  least squares; each mode's sensitivity to K_s and the damping follow.
+  --measured``): :func:`bearingfw.tuning.fit_parameters` on K_s of the M1 model, its modes seen by
+  the deck sensors, starting from eq. 11; modes identified by ``bearingfw oma`` paired by MAC at
+  their channels; those that pair with no computed mode well enough are dropped and named; a scan
+  of K_s starts the least squares; each mode's sensitivity to K_s and the damping follow.
 
 Identified modes, step by step. A few deck sensors see several modes alike (on half the
 bridge, as the paper placed them, MAC 0.85-0.9 between neighbouring vertical modes), so pairing
@@ -27,7 +28,7 @@ by MAC can switch between trial values of K_s and the sum of squares has local m
 eq. 11's estimate, which is rough (its SDOF frame ignores the deck), the fit can stop in one.
 So the fit starts from the best of eq. 11 and a scan of K_s over its bounds
 (:attr:`IdentifiedTuning.scan_points` log-spaced values, one modal analysis each). Before
-that, each identified mode's best MAC with its partner over the scan (and the untuned model)
+that, each identified mode's best MAC with its partner over the scan (and eq. 11's K_s)
 decides whether it takes part: below :attr:`IdentifiedTuning.min_mac` it is a noise mode or
 one the model lacks, and its frequency error alone would drive K_s (a spurious mode at MAC 0.13
 pulls the fit to the bound of 10 MN/m). After the fit, pairs below the least MAC at the fitted
@@ -56,15 +57,20 @@ from bearingfw.parameters import ParameterError, integer_parameter, parameter
 from bearingfw.tuning import (
     MIN_MAC,
     CalibrationReport,
+    FitOptions,
     Measurement,
     Observation,
     Pairing,
     PairingError,
     calibrate,
+    channel_warnings,
     evaluate,
-    identified_measurements,
+    fit_parameters,
+    from_identified,
     ks_eq11,
+    observed_modes,
     pair_modes,
+    screen_by_mac,
 )
 
 __all__ = [
@@ -74,14 +80,14 @@ __all__ = [
     "IdentifiedTuning",
     "calibrate_ks",
     "calibrate_ks_to_identified",
-    "channel_warnings",
+    "channel_warnings",  # from bearingfw.tuning, where the fit of identified modes lives
     "deck_observation",
     "ks_estimate",
     "measured_damping",
     "modes",
     "paper_measurements",
     "paper_sensors",
-    "screen_by_mac",
+    "screen_by_mac",  # from bearingfw.tuning
     "tuned_bridge",
 ]
 
@@ -279,51 +285,12 @@ class IdentifiedFit:
         }
 
 
-def _pairings(modal: ModalResult, measured, observation: Observation) -> Pairing | None:
-    try:
-        return pair_modes(modal, measured, by="mac", observation=observation)
-    except PairingError:
-        return None
-
-
-def screen_by_mac(
-    measured: tuple[Measurement, ...], pairings: Sequence[Pairing | None], min_mac: float
-) -> tuple[tuple[Measurement, ...], tuple[dict, ...]]:
-    """Keep the measurements whose best pair MAC over ``pairings`` reaches ``min_mac``; the others, named."""
-    best = np.zeros(len(measured))
-    for pairing in pairings:
-        if pairing is not None:
-            best = np.maximum(best, pairing.mac)
-    kept = tuple(m for m, b in zip(measured, best, strict=True) if b >= min_mac)
-    dropped = tuple(
-        {"name": m.name, "frequency": m.frequency, "best_mac": float(b)}
-        for m, b in zip(measured, best, strict=True)
-        if b < min_mac
-    )
-    return kept, dropped
-
-
-def channel_warnings(sensors: Sequence[str]) -> list[str]:
-    """What the channels of a modes file leave in doubt: with one, every MAC is 1."""
-    if len(sensors) == 1:
-        return [
-            f"the modes file has a single channel ({sensors[0]}): every MAC is 1, so modes are paired by the "
-            "assignment alone and the screening by MAC cannot reject anything"
-        ]
-    return []
-
-
-def _cost(pairing: Pairing | None) -> float:
-    return math.inf if pairing is None else float(np.sum(pairing.errors**2))
-
-
-def _identified_damping(identified, used: Sequence[Measurement], report: CalibrationReport) -> dict:
+def _identified_damping(damping: Mapping[str, float | None], used: Sequence[Measurement], report) -> dict:
     """The identified damping ratios, and Rayleigh through vertical 1 and 2 when both are paired (section 3.2)."""
-    ratios = {m.name: m.damping for m in identified.modes}
-    out: dict[str, Any] = {"identified": {m.name: ratios[m.name] for m in used}}
+    out: dict[str, Any] = {"identified": {m.name: damping.get(m.name) for m in used}}
     paired = dict(zip(report.after.labels, used, strict=True))
     if "vertical 1" in paired and "vertical 2" in paired:
-        (f1, z1), (f2, z2) = ((paired[k].frequency, ratios[paired[k].name]) for k in ("vertical 1", "vertical 2"))
+        (f1, z1), (f2, z2) = ((paired[k].frequency, damping.get(paired[k].name)) for k in ("vertical 1", "vertical 2"))
         try:
             alpha, beta = rayleigh_from_ratios(f1, z1, f2, z2)
             out["rayleigh"] = {"alpha": alpha, "beta": beta, "through": ["vertical 1", "vertical 2"]}
@@ -344,68 +311,50 @@ def calibrate_ks_to_identified(
     :class:`~bearingfw.parameters.ParameterError` when no mode pairs with a computed one at
     ``options.min_mac`` or better, or the channels are not deck DOFs of the model.
     """
-    measured, sensors = identified_measurements(identified, select)
-    warnings = channel_warnings(sensors)
-    observation = deck_observation(params, sensors)
-
-    def modal_at(ks: float | None) -> ModalResult:
-        model = reference_bridge("M0", params=params) if ks is None else reference_bridge("M1", ks=ks, params=params)
-        return solve_modal(model, N_MODES)
-
-    untuned_modal = modal_at(None)
-    grid_ks = [float(v) for v in np.logspace(*np.log10(KS_BOUNDS), options.scan_points)]
-    scanned = {ks: modal_at(ks) for ks in grid_ks}
-    first = [_pairings(untuned_modal, measured, observation)] + [
-        _pairings(m, measured, observation) for m in scanned.values()
-    ]
-    used, dropped = screen_by_mac(measured, first, options.min_mac)
-    if not used:
-        listed = ", ".join(f"{d['name']} ({d['frequency']:.3f} Hz, best MAC {d['best_mac']:.2f})" for d in dropped)
-        raise ParameterError(
-            f"calibrate_ks_to_identified: no identified mode pairs with a computed one at MAC >= min_mac = "
-            f"{options.min_mac:g}: {listed}"
-        )
-    if dropped:
-        listed = ", ".join(f"{d['name']} ({d['frequency']:.3f} Hz, best MAC {d['best_mac']:.2f})" for d in dropped)
-        warnings.append(f"left out, paired at MAC below {options.min_mac:g} with every computed mode: {listed}")
-
-    untuned = pair_modes(untuned_modal, used, by="mac", observation=observation)
-    lateral = [m for m, label in zip(used, untuned.labels, strict=True) if label == "lateral 1"]
+    measured = from_identified(identified).select(select, what="identified modes", kind="identified")
+    observation = deck_observation(params, measured.channels)
+    untuned_modal = solve_modal(reference_bridge("M0", params=params), N_MODES)
+    # eq. 11 needs the measured first lateral mode: the identified mode that pairs with the untuned
+    # model's (as the deck sensors see it) at the least MAC or better
+    try:
+        untuned_all = pair_modes(untuned_modal, measured.measurements, by="mac", observation=observation)
+        lateral = [m for m, label, value in zip(measured.measurements, untuned_all.labels, untuned_all.mac, strict=True)
+                   if label == "lateral 1" and value >= options.min_mac]
+    except PairingError:  # more identified modes than the deck's computed ones: eq. 11 is skipped
+        lateral = []
     if lateral:
-        ks0, f_a = ks_estimate(params, lateral[0].frequency)
-        eq11 = {"k_c": params.pillar_stiffness, "f_a": f_a, "f_b": lateral[0].frequency, "mode": lateral[0].name}
+        f_b = lateral[0].frequency
+        f_a = float(untuned_modal.frequencies[observed_modes(untuned_modal, deck_observation(params)).numbered[
+            "lateral 1"]])
+        ks0 = ks_eq11(params.pillar_stiffness, f_a, f_b)
+        eq11 = {"k_c": params.pillar_stiffness, "f_a": f_a, "f_b": f_b, "mode": lateral[0].name}
     else:  # no identified mode is the untuned model's first lateral one: the paper's value joins the scan
         ks0, eq11 = DEFAULT_KS, None
-    scanned.setdefault(ks0, modal_at(ks0))
-    scan = tuple((ks, _cost(_pairings(modal, used, observation))) for ks, modal in scanned.items())
-    start = min(scan, key=lambda item: item[1])[0]
-    report = calibrate_ks(params, measured=used, initial=start, by="mac", sensors=sensors)
-    ks = report.values["ks"]
-    weak = report.after.weak(options.min_mac)
-    if weak:
-        macs = dict(zip((m.name for m in used), report.after.mac, strict=True))
-        listed = ", ".join(f"{n} (MAC {macs[n]:.2f})" for n in weak)
-        warnings.append(f"at the fitted K_s these modes pair below MAC {options.min_mac:g}: {listed}")
-
-    step = options.sensitivity_step
-    logs = []
-    for factor in (1 - step, 1 + step):
-        pairing = pair_modes(modal_at(ks * factor), used, by="mac", observation=observation)
-        logs.append(np.log(pairing.frequencies))
-    sensitivity = (logs[1] - logs[0]) / math.log((1 + step) / (1 - step))
+    fit = fit_parameters(
+        lambda values: reference_bridge("M1", ks=values["ks"], params=params),
+        measured,
+        {"ks": (min(max(ks0, KS_BOUNDS[0]), KS_BOUNDS[1]), *KS_BOUNDS)},
+        FitOptions(min_mac=options.min_mac, scan_points=options.scan_points,
+                   sensitivity_step=options.sensitivity_step, n_modes=N_MODES),
+        observation=observation,
+        describe=lambda name: "K_s",
+    )
+    untuned = pair_modes(untuned_modal, fit.used, by="mac", observation=observation)
+    at_start = (fit.start["ks"], float(np.sum(fit.before.errors**2)))
+    scan = (*((values["ks"], cost) for values, cost in fit.scan), at_start)
     return IdentifiedFit(
         options=options,
-        sensors=tuple(sensors),
-        used=used,
-        dropped=dropped,
+        sensors=tuple(measured.channels),
+        used=fit.used,
+        dropped=fit.dropped,
         untuned=untuned,
         eq11=eq11,
         ks_eq11=ks0 if eq11 else None,
         scan=scan,
-        ks_start=start,
-        report=report,
-        sensitivity=sensitivity,
-        damping=_identified_damping(identified, used, report),
-        warnings=tuple(warnings),
+        ks_start=fit.scan_start["ks"],
+        report=fit.report,
+        sensitivity=fit.sensitivity[:, 0],
+        damping=_identified_damping(fit.damping, fit.used, fit.report),
+        warnings=fit.warnings,
         metadata={k: identified.metadata.get(k) for k in ("source", "synthetic")},
     )

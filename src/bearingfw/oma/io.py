@@ -20,6 +20,7 @@ and real shape ``{channel: value}`` normalised to a largest component of +1. ``b
 
 from __future__ import annotations
 
+import difflib
 import json
 import math
 from collections.abc import Mapping, Sequence
@@ -62,7 +63,10 @@ def parse_channel(name: str) -> tuple[str, str]:
 
 
 def channel_dofs(system_or_model, channels: Sequence[str]) -> np.ndarray:
-    """Full DOF indices of the sensor ``channels`` in a :class:`~bearingfw.model.System` or ``Model``."""
+    """Full DOF indices of the sensor ``channels`` in a :class:`~bearingfw.model.System` or ``Model``.
+
+    A channel at a node the model lacks is an error naming it, the model and its nearest channel
+    names (a typo such as ``G44.uz`` for ``G4.uz`` is the usual cause)."""
     dofmap = getattr(system_or_model, "dofmap", None) or system_or_model.model.dofmap
     out = []
     for name in channels:
@@ -70,8 +74,25 @@ def channel_dofs(system_or_model, channels: Sequence[str]) -> np.ndarray:
         try:
             out.append(dofmap.dof(node, component))
         except ModelError:
-            raise ParameterError(f"channel {name!r}: the model has no node {node!r}") from None
+            model = getattr(system_or_model, "model", system_or_model)
+            near = _near_channels(model, name)
+            raise ParameterError(f"channel {name!r}: the model has no node {node!r}{near}") from None
     return np.array(out, dtype=int)
+
+
+def _near_channels(model, name: str) -> str:
+    """`` (in 'model'; near matches: ...)``: the model's channel names nearest ``name``."""
+    nodes = sorted(n.name for n in getattr(model, "nodes", ()))
+    if not nodes:
+        return ""
+    node, _, component = name.rpartition(".")
+    near = difflib.get_close_matches(name, [f"{n}.{c}" for n in nodes for c in COMPONENTS], n=5, cutoff=0.5)
+    if not near:  # a node name far from any: the nearest nodes, with the channel's component
+        near = [f"{n}.{component.lower()}" for n in difflib.get_close_matches(node, nodes, n=5)]
+    more = ", ..." if len(nodes) > 12 else ""
+    listing = f"near matches: {', '.join(near)}" if near else f"its nodes: {', '.join(nodes[:12])}{more}"
+    title = getattr(model, "name", "")
+    return f" ({f'in {title!r}; ' if title else ''}{listing})"
 
 
 def _data(value) -> np.ndarray:

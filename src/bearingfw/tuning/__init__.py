@@ -10,8 +10,10 @@ re-exported here because tuning is where measured damping enters a model.
 
 Any structure, any parameter (:mod:`bearingfw.tuning.fit`): :func:`fit_parameters` calibrates
 named parameters of a model builder (``bearingfw tune --structure SPEC --param NAME=LOW:HIGH``)
-against a measured-modes file (:func:`read_measured`), pairing by MAC or label, never by index,
-and reports the fit, the sensitivities ``d ln f / d ln p`` and the MAC table.
+against a measured-modes file (:func:`read_measured`) or modes identified by ``bearingfw oma``
+(:func:`from_identified`), pairing by MAC or label, never by index, and reports the fit, the
+sensitivities ``d ln f / d ln p`` and the MAC table. The paper's K_s from identified modes
+(:func:`bearingfw.bridges.study.calibrate_ks_to_identified`) is one such fit.
 
 The measured-modes file (:mod:`bearingfw.tuning.measured`), TOML (``.toml``) or JSON, or the
 output of ``bearingfw oma --json`` / ``--output`` as it is::
@@ -23,18 +25,25 @@ output of ``bearingfw oma --json`` / ``--output`` as it is::
     name = "first bending"       # optional (default: the label, else "mode <k>")
     frequency = 2.55             # Hz, required
     label = "vertical 1"         # optional: the k-th computed mode of that label
-    damping = 0.021              # optional ratio (reported)
+    damping = 0.021              # optional ratio, 0 <= damping < 1 (reported)
     shape = { "G4.uz" = 1.0, "G12.uz" = -0.98, "G4.ux" = 0.02 }   # optional, at "<node>.<component>"
 
 Every mode with a shape (at the same channels): paired by MAC there. Otherwise every mode with a
 label (``vertical``, ``lateral``, ``longitudinal``, ``torsional`` and k, as ``bearingfw modal``
-labels the whole mode): paired by label.
+labels the whole mode, each label once): paired by label.
 """
 
 from bearingfw.analysis.damping import damping_ratio_from_log_decrement, rayleigh_from_ratios
 from bearingfw.tuning.calibration import CalibrationReport, Variable, calibrate, evaluate
-from bearingfw.tuning.fit import FitOptions, ParameterFit, fit_parameters
-from bearingfw.tuning.measured import MeasuredModes, check_channels, measured_modes, read_measured
+from bearingfw.tuning.fit import FitOptions, ParameterFit, channel_warnings, fit_parameters, screen_by_mac
+from bearingfw.tuning.measured import (
+    MeasuredModes,
+    check_channels,
+    from_identified,
+    identified_measurements,
+    measured_modes,
+    read_measured,
+)
 from bearingfw.tuning.pairing import (
     MIN_MAC,
     PAIR_BY,
@@ -44,7 +53,6 @@ from bearingfw.tuning.pairing import (
     Pairing,
     PairingError,
     as_measurements,
-    identified_measurements,
     observed_modes,
     pair_modes,
     paired_shapes,
@@ -66,11 +74,13 @@ __all__ = [
     "Variable",
     "as_measurements",
     "calibrate",
+    "channel_warnings",
     "check_channels",
     "damping_ratio_from_log_decrement",
     "evaluate",
     "fit_parameters",
     "frequency_ratio",
+    "from_identified",
     "identified_measurements",
     "ks_eq11",
     "measured_modes",
@@ -79,4 +89,5 @@ __all__ = [
     "paired_shapes",
     "rayleigh_from_ratios",
     "read_measured",
+    "screen_by_mac",
 ]

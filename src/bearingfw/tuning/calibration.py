@@ -9,9 +9,16 @@ order are still paired right) and returns the weighted relative frequency errors
     r_i = w_i (f_i(p) - f_i^measured) / f_i^measured
 
 which :func:`scipy.optimize.least_squares` minimises within the variables' bounds (``sum r_i^2``;
-the paper's "least square method" over its four frequencies). A variable whose lower bound is
-positive is searched in ``log(p / p_0)`` (stiffnesses span decades), any other in
-``(p - p_0) / (high - low)``.
+the paper's "least square method" over its four frequencies). Each variable is searched as
+``x = 1 + s``, ``s`` its place in its range from 0 at ``low`` to 1 at ``high``: in ``log p`` when
+the lower bound is positive (stiffnesses span decades), else in ``p``.
+
+Why so: the Jacobian is computed here, by forward differences with a fixed step
+:data:`JACOBIAN_STEP` in ``x`` (backward at the upper bound, so no trial leaves the bounds), and
+trials are cached by their exact values. A step relative to the variable (scipy's ``diff_step``) and the
+trust region scipy starts with both scale with ``|x|``: were ``x`` zero at a bound, a start on the
+bound (where a scan often ends) would give a zero Jacobian and a zero first step, and the fit
+would never leave it. With ``x`` between 1 and 2, both are of the order of the range.
 
 The :class:`CalibrationReport` holds the fitted values, the paired frequencies and errors before
 (at the initial values) and after, and the MAC table of the paired shapes before against after
@@ -41,10 +48,14 @@ from bearingfw.tuning.pairing import (
     paired_shapes,
 )
 
-__all__ = ["CalibrationReport", "Variable", "calibrate", "evaluate"]
+__all__ = ["JACOBIAN_STEP", "CalibrationReport", "Variable", "calibrate", "evaluate"]
 
 #: Residual of a measurement that finds no computed mode at a trial point (a 100 % error).
 _UNPAIRED = 1.0
+#: Finite-difference step of the Jacobian in the scaled variables: 1e-5 of a variable's range (in
+#: log p or p). Far above the eigensolver's round-off (~1e-12 relative), far below the scale on
+#: which the frequencies curve.
+JACOBIAN_STEP = 1e-5
 
 
 @attrs.frozen
@@ -71,12 +82,16 @@ class Variable:
         return self.low > 0
 
     def to_x(self, value: float) -> float:
+        """The variable of the least squares (module docstring): 1 at ``low``, 2 at ``high``."""
         if self.logarithmic:
-            return math.log(value / self.initial)
-        return (value - self.initial) / (self.high - self.low)
+            return 1.0 + math.log(value / self.low) / math.log(self.high / self.low)
+        return 1.0 + (value - self.low) / (self.high - self.low)
 
     def from_x(self, x: float) -> float:
-        value = self.initial * math.exp(x) if self.logarithmic else self.initial + x * (self.high - self.low)
+        if self.logarithmic:
+            value = self.low * math.exp((x - 1.0) * math.log(self.high / self.low))
+        else:
+            value = self.low + (x - 1.0) * (self.high - self.low)
         return min(max(value, self.low), self.high)
 
 
@@ -127,6 +142,10 @@ class CalibrationReport:
         return self.after.errors
 
     def to_dict(self) -> dict[str, Any]:
+        """The JSON form: per mode the frequency, error and label at the variables' ``initial`` values
+        (``start``, ``error_start``, ``label_start``: where the least squares began) and ``after``.
+        ("before" is left to the commands, for the model before tuning.)"""
+
         def matrix(a):
             return None if a is None else np.round(a, 6).tolist()
 
@@ -140,11 +159,11 @@ class CalibrationReport:
                 {
                     "name": m.name,
                     "measured": m.frequency,
-                    "before": float(fb),
+                    "start": float(fb),
                     "after": float(fa),
-                    "error_before": float(eb),
+                    "error_start": float(eb),
                     "error_after": float(ea),
-                    "label_before": lb,
+                    "label_start": lb,
                     "label_after": la,
                 }
                 for m, fb, fa, eb, ea, lb, la in zip(
@@ -152,7 +171,7 @@ class CalibrationReport:
                     self.errors_after, self.before.labels, self.after.labels, strict=True,
                 )
             ],
-            "mac_before_after": matrix(self.mac_before_after),
+            "mac_start_after": matrix(self.mac_before_after),
             "automac_after": matrix(self.automac_after),
             "cost": self.cost,
             "evaluations": self.evaluations,
@@ -204,8 +223,11 @@ def calibrate(
     ``build`` takes the value of the single variable, or a ``{name: value}`` dict when there
     are several. ``measured``: see :func:`bearingfw.tuning.as_measurements`. ``variables``:
     ``{name: (initial, low, high)}``. ``weights`` (one per measurement, default 1) scale the
-    relative errors. ``n_modes`` computed modes must include every measured one. Extra
-    keywords go to :func:`bearingfw.analysis.solve_modal` (e.g. ``registry``).
+    relative errors. ``n_modes`` computed modes must include every measured one.
+    ``max_evaluations`` bounds the modal analyses of the least squares (about: scipy counts
+    iterations, each one analysis and a Jacobian of one per variable); the report's
+    ``evaluations`` is how many it ran. Extra keywords go to
+    :func:`bearingfw.analysis.solve_modal` (e.g. ``registry``).
     """
     ms = as_measurements(measured)
     vs = _variables(variables)
@@ -213,10 +235,11 @@ def calibrate(
     if w.shape != (len(ms),) or not np.all(np.isfinite(w)) or np.any(w < 0):
         raise ParameterError(f"calibrate: 'weights' must be {len(ms)} finite values >= 0, got {weights!r}")
     target = np.array([m.frequency for m in ms])
-    cache: dict[tuple, tuple[ModalResult, Pairing] | None] = {}
+    # keyed by the exact trial values: two trials a finite-difference step apart are two analyses
+    cache: dict[tuple[float, ...], tuple[ModalResult, Pairing] | None] = {}
 
     def run(x) -> tuple[ModalResult, Pairing] | None:
-        key = tuple(np.round(np.asarray(x, dtype=float), 12))
+        key = tuple(float(xi) for xi in np.asarray(x, dtype=float))
         if key not in cache:
             values = [v.from_x(xi) for v, xi in zip(vs, key, strict=True)]
             try:
@@ -233,18 +256,33 @@ def calibrate(
             return w * _UNPAIRED
         return w * (result[1].frequencies / target - 1.0)
 
+    lower = np.array([v.to_x(v.low) for v in vs])
+    upper = np.array([v.to_x(v.high) for v in vs])
+
+    def jacobian(x) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        at = residuals(x)  # cached: the least squares has just evaluated x
+        columns = []
+        for j in range(len(vs)):
+            # a forward step, backward where it would cross the upper bound: every trial within the bounds
+            step = x.copy()
+            step[j] = x[j] + JACOBIAN_STEP if x[j] + JACOBIAN_STEP <= upper[j] else x[j] - JACOBIAN_STEP
+            columns.append((residuals(step) - at) / (step[j] - x[j]))
+        return np.column_stack(columns)
+
     x0 = np.array([v.to_x(v.initial) for v in vs])
     start = run(x0)
     if start is None:  # raise the pairing error with its message
         evaluate(_call(build, vs, [v.initial for v in vs]), ms, by=by, observation=observation, n_modes=n_modes,
                  **modal_options)
-    lower = np.array([v.to_x(v.low) for v in vs])
-    upper = np.array([v.to_x(v.high) for v in vs])
+    analyses = len(cache)
+    # max_evaluations bounds the modal analyses: each iteration costs one and a Jacobian one per variable
     fit = least_squares(
-        residuals, x0, bounds=(lower, upper), diff_step=1e-3, xtol=tolerance, ftol=tolerance, gtol=tolerance,
-        max_nfev=max_evaluations,
+        residuals, x0, jac=jacobian, bounds=(lower, upper), xtol=tolerance, ftol=tolerance, gtol=tolerance,
+        max_nfev=max(1, max_evaluations // (1 + len(vs))),
     )
     end = run(fit.x)
+    analyses = len(cache) - analyses
     if end is None:
         end = start
     (modal0, pair0), (modal1, pair1) = start, end
@@ -261,7 +299,7 @@ def calibrate(
         mac_before_after=mac(before_shapes, after_shapes) if same_dofs else None,
         automac_after=automac(after_shapes),
         cost=float(fit.cost),
-        evaluations=int(fit.nfev),
+        evaluations=analyses,
         success=bool(fit.success),
         message=str(fit.message),
     )

@@ -5,23 +5,29 @@ with its keyword arguments), the measured modes (:class:`~bearingfw.tuning.Measu
 measured-modes file or ``bearingfw oma`` output) and the variables with their bounds, and does
 what the paper's step 1 does for its K_s, for any parameter:
 
-1. pairing: by MAC at the measured channels when the modes have shapes (an
-   :class:`~bearingfw.tuning.Observation` of those channels, every computed mode a candidate),
-   else by label (the kernel's labels of the whole mode); never by index, and again at every
+1. pairing: by MAC at the measured channels when the modes have shapes (every computed mode a
+   candidate, unless an ``observation`` says which count), else by label (the kernel's labels of
+   the whole mode, or as the ``observation`` sees them); never by index, and again at every
    trial, so modes that change order are still paired right;
-2. screening (by MAC): a measured mode whose best MAC with its partner, at the start and over
-   the scan, stays below ``min_mac`` is a noise mode or one the model lacks; it is left out and
-   named (its frequency error alone would drive the fit);
+2. screening (by MAC, :func:`screen_by_mac`): a measured mode whose best MAC with its partner, at
+   the start and over the scan, stays below ``min_mac`` is a noise mode or one the model lacks;
+   it is left out and named (its frequency error alone would drive the fit);
 3. a scan: ``scan_points`` values of each variable over its bounds (log-spaced for a positive
    range, as the least squares searches it; several variables one at a time, the others at their
    start) whose best sum of squared errors, or the start, begins
 4. the least squares of :func:`~bearingfw.tuning.calibrate` (``r_i = f_i / f_i^measured - 1``;
    a variable with a positive lower bound is searched in ``log p``, so a range spanning decades
    is searched evenly);
-5. the sensitivities ``d ln f_i / d ln p_j`` at the optimum (central differences with a relative
-   step ``sensitivity_step``): a frequency error ``e`` moves ``p_j`` by about ``e / s_ij``, and a
-   variable that no measured mode is sensitive to is not determined by them (a warning says so),
-   nor is one that ends at a bound.
+5. the sensitivities ``d ln f_i / d ln p_j`` at the optimum (differences over a relative step
+   ``sensitivity_step`` on each side, one-sided at a bound: no trial leaves the bounds): a
+   frequency error ``e`` moves ``p_j`` by about ``e / s_ij``, and a variable that no measured mode
+   is sensitive to is not determined by them (a warning says so), nor is one that ends at a bound.
+   A fit whose largest frequency error stays above :data:`POOR_MATCH` is warned about too.
+
+Every trial (the start, the scan, the least squares, the sensitivities) builds and analyses the
+model; a :class:`~bearingfw.parameters.ParameterError` there (the builder or the model refusing a
+value) names the values tried and which trial it was (``START``, ``LOW``, ``HIGH``, a scan point,
+...), each variable as ``describe(name)`` says (``bearingfw tune``: ``--param NAME``).
 
 The :class:`ParameterFit` holds the frequencies and errors before (at the start values) and
 after, the MAC table of the measured against the paired computed shapes, and what was left out;
@@ -45,10 +51,15 @@ from bearingfw.tuning.calibration import CalibrationReport, Variable, _variables
 from bearingfw.tuning.measured import MeasuredModes, check_channels
 from bearingfw.tuning.pairing import MIN_MAC, Measurement, Observation, Pairing, PairingError, pair_modes
 
-__all__ = ["FitOptions", "ParameterFit", "fit_parameters"]
+__all__ = ["POOR_MATCH", "WEAK_SENSITIVITY", "FitOptions", "ParameterFit", "channel_warnings", "fit_parameters",
+           "screen_by_mac"]
 
 #: Below this |d ln f / d ln p| for every mode a variable is "not determined" by the measurements.
 WEAK_SENSITIVITY = 0.01
+#: Above this largest |relative frequency error| after the fit, the model does not match the
+#: measurements (frequencies in rad/s instead of Hz are 6.28 times too high; a missing mass or
+#: restraint moves modes by tens of percent): a warning says so.
+POOR_MATCH = 0.10
 
 
 @attrs.frozen
@@ -62,7 +73,7 @@ class FitOptions:
         low=0, high=200, default=9, doc="values of each variable over its bounds scanned for a start (0: none)"
     )
     sensitivity_step: float = parameter(
-        low=0.0, low_open=True, high=0.5, default=0.05, doc="relative step of d ln f / d ln p (central difference)"
+        low=0.0, low_open=True, high=0.5, default=0.05, doc="relative step of d ln f / d ln p (each side)"
     )
     n_modes: int = integer_parameter(low=1, high=1000, default=20, doc="modes computed per trial")
     max_evaluations: int = integer_parameter(low=1, high=10_000, default=100, doc="modal analyses of the least squares")
@@ -94,6 +105,8 @@ class ParameterFit:
         return dict(self.report.values)
 
     def to_dict(self) -> dict[str, Any]:
+        """The JSON form. Everywhere in it, ``before`` is at the start values (``start``) and ``after``
+        at the fitted ones; the least squares began at ``scan_start`` (``calibration.from``)."""
         names = [m.name for m in self.used]
         after = self.report.after
 
@@ -110,6 +123,7 @@ class ParameterFit:
                 "low": v.low, "high": v.high, "scale": "log" if v.logarithmic else "linear",
                 "sensitivity": {n: finite(s) for n, s in zip(names, self.sensitivity[:, j], strict=True)},
             }
+        report = self.report
         return {
             "source": self.metadata.get("source"),
             "synthetic": bool(self.metadata.get("synthetic", False)),
@@ -145,7 +159,14 @@ class ParameterFit:
             "error_before": by_name(self.before.errors),
             "error_after": by_name(after.errors),
             "mac": None if self.mac_table is None else np.round(self.mac_table, 6).tolist(),
-            "calibration": self.report.to_dict(),
+            "calibration": {
+                "from": dict(self.scan_start),
+                "cost": report.cost,
+                "evaluations": report.evaluations,
+                "success": report.success,
+                "message": report.message,
+                "automac_after": np.round(report.automac_after, 6).tolist(),
+            },
         }
 
 
@@ -163,8 +184,40 @@ def _grid(variable: Variable, points: int) -> list[float]:
     return [float(v) for v in np.linspace(variable.low, variable.high, points)]
 
 
+def _scan_role(k: int, points: int) -> str:
+    return "LOW" if k == 0 else "HIGH" if k == points - 1 else "a scan point"
+
+
 def _cost(pairing: Pairing | None) -> float:
     return math.inf if pairing is None else float(np.sum(pairing.errors**2))
+
+
+def screen_by_mac(
+    measured: Sequence[Measurement], pairings: Sequence[Pairing | None], min_mac: float
+) -> tuple[tuple[Measurement, ...], tuple[dict, ...]]:
+    """Keep the measurements whose best pair MAC over ``pairings`` reaches ``min_mac``; the others, named
+    (``{"name", "frequency", "best_mac"}``). A None pairing (nothing paired at that trial) counts for none."""
+    best = np.zeros(len(measured))
+    for pairing in pairings:
+        if pairing is not None:
+            best = np.maximum(best, pairing.mac)
+    kept = tuple(m for m, b in zip(measured, best, strict=True) if b >= min_mac)
+    dropped = tuple(
+        {"name": m.name, "frequency": m.frequency, "best_mac": float(b)}
+        for m, b in zip(measured, best, strict=True)
+        if b < min_mac
+    )
+    return kept, dropped
+
+
+def channel_warnings(sensors: Sequence[str]) -> list[str]:
+    """What the channels of measured shapes leave in doubt: with one, every MAC is 1."""
+    if len(sensors) == 1:
+        return [
+            f"the shapes have a single channel ({sensors[0]}): every MAC is 1, so modes are paired by the "
+            "assignment alone and the screening by MAC cannot reject anything"
+        ]
+    return []
 
 
 def fit_parameters(
@@ -172,34 +225,48 @@ def fit_parameters(
     measured: MeasuredModes,
     variables: Mapping[str, Sequence[float]],
     options: FitOptions = FitOptions(),
+    *,
+    observation: Observation | None = None,
+    describe: Callable[[str], str] | None = None,
     **modal_options,
 ) -> ParameterFit:
     """Fit ``variables`` (``{name: (start, low, high)}``) of ``build`` to ``measured`` (module docstring).
 
-    ``build`` gets ``{name: value}`` for every variable. Raises :class:`ParameterError` for a
-    channel that is not a DOF of the model, and when no measured mode pairs with a computed one
-    at ``options.min_mac`` or better; :class:`~bearingfw.tuning.PairingError` when a label has
-    no computed mode (compute more: ``options.n_modes``). Extra keywords go to
-    :func:`~bearingfw.analysis.solve_modal`.
+    ``build`` gets ``{name: value}`` for every variable. ``observation``: which computed modes
+    count and how they are labelled (default: all, labelled as whole modes); by MAC, its sensors
+    become the measured channels. ``describe(name)``: how messages name a variable (default: its
+    name). Raises :class:`ParameterError` for a channel that is not a DOF of the model, a trial
+    value the builder or the model refuses (naming it and the trial), and when no measured mode
+    pairs with a computed one at ``options.min_mac`` or better;
+    :class:`~bearingfw.tuning.PairingError` when a label has no computed mode (compute more:
+    ``options.n_modes``). Extra keywords go to :func:`~bearingfw.analysis.solve_modal`.
     """
     vs = _variables(variables)
+    describe = describe or str
     start = {v.name: v.initial for v in vs}
     by = measured.pair_by
     sensors = measured.channels if by == "mac" else None
-    observation = None if sensors is None else _observation(sensors)
-    warnings: list[str] = []
-    if sensors is not None and len(sensors) == 1:
-        warnings.append(f"the shapes have a single channel ({sensors[0]}): every MAC is 1, so modes are paired by "
-                        "the assignment alone and the screening by MAC cannot reject anything")
+    if sensors is not None:
+        observation = _observation(sensors) if observation is None else attrs.evolve(observation, sensors=sensors)
+    warnings: list[str] = [] if sensors is None else channel_warnings(sensors)
+    tried: list[dict[str, float]] = []  # the values of the latest trial (the least squares calls build itself)
 
     def model_at(values: Mapping[str, float]) -> Model:
+        tried[:] = [dict(values)]
         model = build(dict(values))
         if not isinstance(model, Model):
             raise ParameterError(f"fit_parameters: 'build' must return a Model, got {type(model).__name__}")
         return model
 
-    def modal_at(values: Mapping[str, float]) -> ModalResult:
-        return solve_modal(model_at(values), options.n_modes, **modal_options)
+    def refused(values: Mapping[str, float], varied: Sequence[str], role: str, exc: ParameterError) -> ParameterError:
+        named = ", ".join(f"{describe(n)} = {values[n]:g}" for n in varied)
+        return ParameterError(f"{named} ({role}): {exc}")
+
+    def modal_at(values: Mapping[str, float], varied: Sequence[str], role: str) -> ModalResult:
+        try:
+            return solve_modal(model_at(values), options.n_modes, **modal_options)
+        except ParameterError as exc:  # the builder or the model refusing a trial value
+            raise refused(values, varied, role, exc) from None
 
     def pairing(modal: ModalResult, ms) -> Pairing | None:
         try:
@@ -207,29 +274,26 @@ def fit_parameters(
         except PairingError:
             return None
 
-    start_modal = modal_at(start)
+    names = [v.name for v in vs]
+    start_modal = modal_at(start, names, "START")
     if sensors is not None:
         check_channels(start_modal.system, sensors)
-    points: list[dict[str, float]] = []
+    scanned = []
     for v in vs:
-        points += [{**start, v.name: value} for value in _grid(v, options.scan_points)]
-    scanned = [(p, modal_at(p)) for p in points]
+        grid = _grid(v, options.scan_points)
+        for k, value in enumerate(grid):
+            point = {**start, v.name: value}
+            scanned.append((point, modal_at(point, [v.name], _scan_role(k, len(grid)))))
     ms = measured.measurements
     dropped: tuple[dict, ...] = ()
     if by == "mac":
-        best = np.zeros(len(ms))
-        for modal in [start_modal] + [m for _, m in scanned]:
-            found = pairing(modal, ms)
-            if found is not None:
-                best = np.maximum(best, found.mac)
-        used = tuple(m for m, b in zip(ms, best, strict=True) if b >= options.min_mac)
-        dropped = tuple({"name": m.name, "frequency": m.frequency, "best_mac": float(b)}
-                        for m, b in zip(ms, best, strict=True) if b < options.min_mac)
+        used, dropped = screen_by_mac(ms, [pairing(m, ms) for m in [start_modal] + [m for _, m in scanned]],
+                                      options.min_mac)
         listed = ", ".join(f"{d['name']} ({d['frequency']:.3f} Hz, best MAC {d['best_mac']:.2f})" for d in dropped)
         if not used:
             raise ParameterError(
-                f"fit_parameters: no measured mode pairs with a computed one at MAC >= min_mac = {options.min_mac:g} "
-                f"(at the start or over the scan): {listed}"
+                f"no measured mode pairs with a computed one at MAC >= {options.min_mac:g} (at the start or over the "
+                f"scan): {listed}"
             )
         if dropped:
             warnings.append(f"left out, paired at MAC below {options.min_mac:g} with every computed mode: {listed}")
@@ -244,37 +308,55 @@ def fit_parameters(
         values = value_or_values if isinstance(value_or_values, dict) else {vs[0].name: value_or_values}
         return model_at(values)
 
-    report = calibrate(build_one, used, fitted_vs, by=by, observation=observation, n_modes=options.n_modes,
-                       max_evaluations=options.max_evaluations, **modal_options)
+    try:
+        report = calibrate(build_one, used, fitted_vs, by=by, observation=observation, n_modes=options.n_modes,
+                           max_evaluations=options.max_evaluations, **modal_options)
+    except PairingError:
+        raise
+    except ParameterError as exc:
+        raise refused(tried[0], names, "a least-squares trial", exc) from None
     values = report.values
     after = report.after
     weak = after.weak(options.min_mac)
     if weak:
         macs = dict(zip((m.name for m in used), after.mac, strict=True))
         warnings.append(f"at the fitted values these modes pair below MAC {options.min_mac:g}: "
-                        + ", ".join(f"{n} (MAC {macs[n]:.2f})" for n in weak))
+                        + ", ".join(f"{n} (MAC {macs[n]:.3f})" for n in weak))
+    worst = int(np.argmax(np.abs(after.errors)))
+    if abs(after.errors[worst]) > POOR_MATCH:
+        warnings.append(
+            f"after the fit, {used[worst].name} is still {after.errors[worst]:+.1%} off its measured frequency: check "
+            "that the measured frequencies are in Hz (not rad/s) and the model (a mass, a restraint, or a parameter "
+            "that these modes do not answer)"
+        )
 
     sensitivity = np.full((len(used), len(vs)), np.nan)
     step = options.sensitivity_step
+    fitted_logs = np.log(after.frequencies)
     for j, v in enumerate(vs):
         p = values[v.name]
         if not p > 0:
             continue
+        # a relative step each side, one-sided at a bound: every trial within the bounds
+        low, high = max(p * (1 - step), v.low), min(p * (1 + step), v.high)
         logs = []
-        for factor in (1 - step, 1 + step):
-            found = pairing(modal_at({**values, v.name: p * factor}), used)
+        for q in (low, high):
+            if q == p:
+                logs.append(fitted_logs)
+                continue
+            found = pairing(modal_at({**values, v.name: q}, [v.name], "a sensitivity step"), used)
             logs.append(None if found is None else np.log(found.frequencies))
-        if logs[0] is not None and logs[1] is not None:
-            sensitivity[:, j] = (logs[1] - logs[0]) / math.log((1 + step) / (1 - step))
+        if logs[0] is not None and logs[1] is not None and high > low:
+            sensitivity[:, j] = (logs[1] - logs[0]) / math.log(high / low)
     for j, v in enumerate(vs):
         column = sensitivity[:, j]
         if np.all(np.isfinite(column)) and np.max(np.abs(column)) < WEAK_SENSITIVITY:
-            warnings.append(f"no measured mode is sensitive to {v.name} (|d ln f / d ln {v.name}| < "
+            warnings.append(f"no measured mode is sensitive to {describe(v.name)} (|d ln f / d ln {v.name}| < "
                             f"{WEAK_SENSITIVITY:g}): its fitted value is not determined by these modes")
-        span = v.to_x(v.high) - v.to_x(v.low)
-        if min(abs(v.to_x(values[v.name]) - v.to_x(v.low)), abs(v.to_x(v.high) - v.to_x(values[v.name]))) < 1e-3 * span:
-            warnings.append(f"{v.name} = {values[v.name]:.6g} ends at a bound of [{v.low:g}, {v.high:g}]: widen it, "
-                            "or the model cannot match these modes by this parameter")
+        x = v.to_x(values[v.name])
+        if min(x - v.to_x(v.low), v.to_x(v.high) - x) < 1e-3 * (v.to_x(v.high) - v.to_x(v.low)):
+            warnings.append(f"{describe(v.name)} = {values[v.name]:.6g} ends at a bound of [{v.low:g}, {v.high:g}]: "
+                            "widen it, or the model cannot match these modes by this parameter")
 
     mac_table = None
     if by == "mac":

@@ -10,18 +10,21 @@ A measured-modes file is TOML (``.toml``) or JSON (anything else), one table per
     name = "first bending"       # optional (default: the label, else "mode <k>")
     frequency = 2.55             # Hz, required, > 0
     label = "vertical 1"         # optional: "<label> <k>", the k-th mode of that label
-    damping = 0.021              # optional damping ratio (reported, not fitted)
+    damping = 0.021              # optional damping ratio, 0 <= damping < 1 (reported, not fitted)
     shape = { "G4.uz" = 1.0, "G12.uz" = -0.98, "G4.ux" = 0.02 }   # optional
 
 - ``label``: one of ``vertical``, ``lateral``, ``longitudinal``, ``torsional`` and a number k:
   the k-th computed mode with that label, as ``bearingfw modal --structure ...`` lists them
-  (labels from the modal kinetic energy of the whole mode; x along the bridge, z up).
+  (labels from the modal kinetic energy of the whole mode; x along the bridge, z up). Pairing by
+  label, two modes cannot have the same label (both would pair with one computed mode).
 - ``shape``: the mode's components at named DOFs, ``"<node>.<component>"`` with a component
   among ux, uy, uz, rx, ry, rz (any scale and sign), as an object or, with ``channels``, an
   array in that order. Every mode that has a shape must give it at the same channels.
 
 The output of ``bearingfw oma --json`` / ``--output`` is such a file (JSON, with shapes and
-damping, no labels); its ``synthetic`` flag and ``source`` are kept.
+damping, no labels); its ``synthetic`` flag and ``source`` are kept. Modes identified in memory
+(:class:`~bearingfw.oma.IdentifiedModes`) become the same :class:`MeasuredModes` with
+:func:`from_identified`.
 
 Pairing (:attr:`MeasuredModes.pair_by`): by MAC at the channels when every mode has a shape,
 else by label when every mode has a label; a file where some modes have neither a shape nor a
@@ -42,12 +45,18 @@ from typing import Any
 import attrs
 import numpy as np
 
-from bearingfw.model import COMPONENTS
-from bearingfw.oma.io import parse_channel
+from bearingfw.oma.io import IdentifiedModes, channel_dofs, parse_channel
 from bearingfw.parameters import ParameterError
 from bearingfw.tuning.pairing import Measurement
 
-__all__ = ["MeasuredModes", "check_channels", "measured_modes", "read_measured"]
+__all__ = [
+    "MeasuredModes",
+    "check_channels",
+    "from_identified",
+    "identified_measurements",
+    "measured_modes",
+    "read_measured",
+]
 
 _MODE_KEYS = {"name", "frequency", "label", "damping", "shape",
               # written by bearingfw oma, read and ignored
@@ -68,8 +77,11 @@ class MeasuredModes:
     def names(self) -> tuple[str, ...]:
         return tuple(m.name for m in self.measurements)
 
-    def select(self, items: Sequence[int | str] | None) -> MeasuredModes:
-        """The modes ``items`` (1-based numbers or names), in that order; None: all."""
+    def select(self, items: Sequence[int | str] | None, what: str = "--modes", kind: str = "measured") -> MeasuredModes:
+        """The modes ``items`` (1-based numbers or names), in that order; None: all.
+
+        An unknown or repeated item is an error that starts with ``what`` (who asked) and
+        lists the ``kind`` modes there are."""
         if items is None:
             return self
         chosen = []
@@ -78,10 +90,12 @@ class MeasuredModes:
             k = item - 1 if isinstance(item, int) else by_name.get(str(item))
             if k is None or not 0 <= k < len(self.measurements):
                 known = ", ".join(f"{j + 1} ({m.name}, {m.frequency:.3f} Hz)" for j, m in enumerate(self.measurements))
-                raise ParameterError(f"--modes: no measured mode {item!r}; modes: {known}")
+                raise ParameterError(f"{what}: no {kind} mode {item!r}; modes: {known}")
             chosen.append(self.measurements[k])
         if len({m.name for m in chosen}) != len(chosen):
-            raise ParameterError(f"--modes: a mode is chosen twice in {list(items)}")
+            raise ParameterError(f"{what}: a mode is chosen twice in {list(items)}")
+        if not chosen:
+            raise ParameterError(f"{what}: no {kind} modes to use")
         return attrs.evolve(self, measurements=tuple(chosen))
 
 
@@ -184,7 +198,13 @@ def measured_modes(data: Mapping[str, Any], where: str = "measured modes") -> Me
             raise ParameterError(f"{here}: field 'shape' is zero at every channel")
         measurements.append(measurement)
         ratio = entry.get("damping")
-        damping[measurement.name] = None if ratio is None else _number(ratio, here, "damping")
+        if ratio is not None:
+            ratio = _number(ratio, here, "damping")
+            if not 0 <= ratio < 1:
+                raise ParameterError(
+                    f"{here}: field 'damping' is a damping ratio, 0 <= damping < 1 (2 % is 0.02), got {ratio!r}"
+                )
+        damping[measurement.name] = ratio
     names = [m.name for m in measurements]
     twice = sorted({n for n in names if names.count(n) > 1})
     if twice:
@@ -196,6 +216,14 @@ def measured_modes(data: Mapping[str, Any], where: str = "measured modes") -> Me
     elif all(labelled):
         by = "label"
         channels = None  # shapes of some modes only: pairing is by label, the shapes are not used
+        labels = [m.label for m in measurements]
+        repeated = {lab: [m.name for m in measurements if m.label == lab] for lab in labels if labels.count(lab) > 1}
+        if repeated:
+            listed = "; ".join(f"{lab!r}: {', '.join(map(repr, modes))}" for lab, modes in repeated.items())
+            raise ParameterError(
+                f"{where}: modes paired by label need distinct labels, and these share one ({listed}): both would "
+                "pair with the same computed mode; number them apart ('vertical 1', 'vertical 2') or give shapes"
+            )
     else:
         no_shape = [m.name for m, s in zip(measurements, shaped, strict=True) if not s]
         no_label = [m.name for m, lab in zip(measurements, labelled, strict=True) if not lab]
@@ -224,17 +252,27 @@ def read_measured(path) -> MeasuredModes:
     return attrs.evolve(out, metadata={"file": str(path), **out.metadata})
 
 
-def check_channels(model, channels: Sequence[str], what: str = "channel") -> None:
-    """Every channel names a DOF of ``model`` (a Model or System); an unknown one is an error naming it
-    and the model's nearest channel names."""
-    model = getattr(model, "model", model)
-    nodes = {n.name for n in model.nodes}
-    for name in channels:
-        node, _ = parse_channel(name)  # its error names the channel and the form
-        if node not in nodes:
-            candidates = [f"{n}.{c}" for n in sorted(nodes) for c in COMPONENTS]
-            near = difflib.get_close_matches(name, candidates, n=5, cutoff=0.5)
-            if not near:
-                near = [f"{n}.{name.rpartition('.')[2]}" for n in difflib.get_close_matches(node, sorted(nodes), n=5)]
-            listing = f"near matches: {', '.join(near)}" if near else f"nodes: {', '.join(sorted(nodes)[:12])}, ..."
-            raise ParameterError(f"{what} {name!r}: the model {model.name or ''} has no node {node!r}; {listing}")
+def check_channels(model, channels: Sequence[str]) -> None:
+    """Every channel names a DOF of ``model`` (a Model or System): :func:`bearingfw.oma.channel_dofs`,
+    whose error names an unknown channel and the model's nearest channel names."""
+    channel_dofs(model, channels)
+
+
+def from_identified(modes: IdentifiedModes) -> MeasuredModes:
+    """Modes identified by ``bearingfw oma`` as measured modes: shapes at their channels (paired by
+    MAC), their damping, and the identification's ``source`` and ``synthetic`` flag."""
+    if not modes.modes:
+        raise ParameterError("identified modes: there are none to use")
+    measurements = tuple(Measurement(m.frequency, shape=m.shape, name=m.name) for m in modes.modes)
+    meta = {k: modes.metadata.get(k) for k in ("source", "synthetic") if k in modes.metadata}
+    return MeasuredModes(measurements, tuple(modes.channels), {m.name: m.damping for m in modes.modes}, "mac", meta)
+
+
+def identified_measurements(modes: IdentifiedModes, select=None) -> tuple[tuple[Measurement, ...], tuple[str, ...]]:
+    """Measurements (frequency, shape at the channels, name) from identified modes, and the channels.
+
+    ``select``: mode names or 1-based numbers to keep (default all). Pair them ``by="mac"``
+    with an :class:`~bearingfw.tuning.Observation` whose ``sensors`` are the returned channels.
+    """
+    chosen = from_identified(modes).select(select, what="identified_measurements", kind="identified")
+    return chosen.measurements, chosen.channels

@@ -26,8 +26,8 @@ Sensors. Measured shapes are often known at a few channels only, not at every no
 of the observed region: an :class:`Observation` with ``sensors`` (channel names
 ``"<node>.<component>"``, as :mod:`bearingfw.oma` writes them) compares shapes at exactly those
 DOFs, in that order, while the region (``nodes`` x ``components``) still decides which computed
-modes count. :func:`identified_measurements` turns modes identified by ``bearingfw oma`` into
-measurements and their sensors.
+modes count. :func:`~bearingfw.tuning.identified_measurements` turns modes identified by
+``bearingfw oma`` into measurements and their sensors.
 """
 
 from __future__ import annotations
@@ -41,7 +41,7 @@ from scipy.optimize import linear_sum_assignment
 
 from bearingfw.analysis import LABELS, ModalResult, energy_shares, label_modes, mac
 from bearingfw.model import COMPONENTS
-from bearingfw.oma.io import IdentifiedModes, channel_dofs, parse_channel
+from bearingfw.oma.io import channel_dofs, parse_channel
 from bearingfw.parameters import ParameterError, parameter
 
 __all__ = [
@@ -53,7 +53,6 @@ __all__ = [
     "Pairing",
     "PairingError",
     "as_measurements",
-    "identified_measurements",
     "observed_modes",
     "pair_modes",
     "paired_shapes",
@@ -268,12 +267,20 @@ def pair_modes(
         missing = [m.name for m in ms if m.label is None]
         if missing:
             raise ParameterError(f"pair_modes: by='label' needs a label on every measurement; {missing} have none")
+        labels = [m.label for m in ms]
+        repeated = sorted({lab for lab in labels if labels.count(lab) > 1})
+        if repeated:
+            raise ParameterError(
+                f"pairing by label: two measured modes have the label {', '.join(map(repr, repeated))}; both would "
+                "pair with the same computed mode: give each mode its own label"
+            )
         absent = [m.label for m in ms if m.label not in numbered]
         if absent:
             have = ", ".join(f"{lab} ({freq[i]:.3g} Hz)" for lab, i in numbered.items())
+            counted = "" if observation is None else " that the sensors see"
             raise PairingError(
-                f"pair_modes: no computed mode labelled {', '.join(absent)} among the {modal.n_modes} computed "
-                f"(eligible: {have or 'none'}); compute more modes or check the observation"
+                f"pairing by label: no computed mode labelled {', '.join(absent)} among the {modal.n_modes} computed"
+                f"{counted} (they are: {have or 'none'}); compute more modes, or check the label"
             )
         modes = tuple(numbered[m.label] for m in ms)
         return Pairing(ms, modes, freq[list(modes)], tuple(m.label for m in ms), None, by)
@@ -283,14 +290,16 @@ def pair_modes(
     candidates = np.flatnonzero(seen.eligible)
     if candidates.size < len(ms):
         raise PairingError(
-            f"pair_modes: {len(ms)} measured shapes but only {candidates.size} eligible computed modes"
+            f"pairing by MAC: {len(ms)} measured shapes but only {candidates.size} computed modes to pair them with; "
+            "compute more modes"
         )
     dofs = None if observation is None else observation.shape_dofs(modal.system)
     computed = modal.shapes[:, candidates] if dofs is None else modal.shapes[np.ix_(dofs, candidates)]
     size = {m.shape.size for m in ms}
     if size != {computed.shape[0]}:
         raise ParameterError(
-            f"pair_modes: measured shapes have {sorted(size)} components; the observed DOFs are {computed.shape[0]}"
+            f"pairing by MAC: measured shapes have {sorted(size)} components; the computed ones are compared at "
+            f"{computed.shape[0]} DOFs"
         )
     table = _mac_table(ms, computed, observation, modal.system)
     rows, cols = linear_sum_assignment(-table)
@@ -311,7 +320,7 @@ def _mac_table(ms, computed: np.ndarray, observation: Observation | None, system
     zero = [m.name for m in ms if not np.any(m.shape)]
     if zero:
         raise ParameterError(
-            f"pair_modes: measured mode(s) {', '.join(map(repr, zero))} have a zero shape at every sensor: "
+            f"pairing by MAC: measured mode(s) {', '.join(map(repr, zero))} have a zero shape at every sensor: "
             "MAC is undefined"
         )
     if observation is not None and observation.sensors is not None:
@@ -320,8 +329,8 @@ def _mac_table(ms, computed: np.ndarray, observation: Observation | None, system
         fixed = [c for c, s in zip(observation.sensors, still, strict=True) if s]
         if fixed:
             raise ParameterError(
-                f"pair_modes: channel(s) {', '.join(fixed)} are at supported DOFs of the model, where every mode shape "
-                "is zero (sensors on a support read the ground); leave them out of the modes file"
+                f"pairing by MAC: channel(s) {', '.join(fixed)} are at supported DOFs of the model, where every mode "
+                "shape is zero (sensors on a support read the ground); leave them out of the modes file"
             )
     moving = np.any(computed != 0, axis=0)
     table = np.zeros((measured.shape[1], computed.shape[1]))
@@ -334,25 +343,3 @@ def paired_shapes(modal: ModalResult, pairing: Pairing, observation: Observation
     """The paired modes' shapes at the observed DOFs (all DOFs without an observation), one per column."""
     shapes = modal.shapes[:, list(pairing.modes)]
     return shapes if observation is None else shapes[observation.shape_dofs(modal.system)]
-
-
-def identified_measurements(modes: IdentifiedModes, select=None) -> tuple[tuple[Measurement, ...], tuple[str, ...]]:
-    """Measurements (frequency, shape at the channels, name) from identified modes, and the channels.
-
-    ``select``: mode names or 1-based indices to keep (default all). Pair them ``by="mac"``
-    with an :class:`Observation` whose ``sensors`` are the returned channels.
-    """
-    chosen = list(modes.modes)
-    if select is not None:
-        names = {m.name: k for k, m in enumerate(chosen)}
-        picked = []
-        for item in select:
-            k = item - 1 if isinstance(item, int) else names.get(str(item))
-            if k is None or not 0 <= k < len(chosen):
-                known = ", ".join(f"{j + 1} ({m.name}, {m.frequency:.3f} Hz)" for j, m in enumerate(chosen))
-                raise ParameterError(f"identified_measurements: no identified mode {item!r}; modes: {known}")
-            picked.append(chosen[k])
-        chosen = picked
-    if not chosen:
-        raise ParameterError("identified_measurements: no identified modes to use")
-    return tuple(Measurement(m.frequency, shape=m.shape, name=m.name) for m in chosen), tuple(modes.channels)

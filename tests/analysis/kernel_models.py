@@ -461,3 +461,92 @@ TEST_LAWS = (LyingSpring, BrittleSpring, StepLimitedSpring, GrumpySpring)
 def registry_with_test_laws(module_name: str = "bearingfw_transient_test_plugin"):
     """The installed plugins plus a test plugin registering :data:`TEST_LAWS` (a context manager)."""
     return registry_with(TEST_LAWS, "transient-test-laws", module_name)
+
+
+# --- protocol v2: laws that ask for the velocity, dF/dN, per-bearing parameters ------------------
+@attrs.frozen
+class LinearDashpot:
+    """A test-only viscous law ``F = c v`` (the kernel's trial velocity), per-bearing ``c``: the
+    same force as a linear dashpot, so an SDOF on it must equal one with Rayleigh damping ``c = a0 m``."""
+
+    name: ClassVar[str] = "test-linear-dashpot"
+    rigid: ClassVar[bool] = False
+    uses_velocity: ClassVar[bool] = True
+    per_bearing: ClassVar[bool] = True
+    c: float = bearingfw.parameter(low=0.0, low_open=True, unit="N s/m", per_bearing=True)
+    dims: int = bearingfw.dims_parameter()
+
+    def initial_state(self, n):
+        return None
+
+    def respond(self, state, u, normal_force, dt, velocity):
+        u = np.asarray(u, dtype=float)
+        bearingfw.parameters.check_per_bearing(self, u.shape[0])
+        c = np.asarray(self.c, dtype=float)[..., None]
+        v = np.asarray(velocity, dtype=float)
+        assert v.shape == u.shape
+        dfdv = elastic_tangent(np.broadcast_to(self.c, (u.shape[0],)), u.shape[0], self.dims)
+        return bearingfw.LawResponse(c * v, np.zeros_like(dfdv), state, dforce_dvelocity=dfdv)
+
+
+#: respond() calls of :class:`CountingSpring` objects, by dims (reset by the tests)
+LAW_CALLS: dict[int, int] = {}
+
+
+@attrs.frozen
+class CountingSpring:
+    """A test-only per-bearing linear spring ``F = k u`` that counts its ``respond`` calls (by dims)
+    and records how many connectors each call served."""
+
+    name: ClassVar[str] = "test-counting-spring"
+    rigid: ClassVar[bool] = False
+    per_bearing: ClassVar[bool] = True
+    k: float = bearingfw.parameter(low=0.0, low_open=True, unit="N/m", per_bearing=True)
+    dims: int = bearingfw.dims_parameter()
+
+    def initial_state(self, n):
+        bearingfw.parameters.check_per_bearing(self, n)
+        return None
+
+    def respond(self, state, u, normal_force, dt):
+        u = np.asarray(u, dtype=float)
+        bearingfw.parameters.check_per_bearing(self, u.shape[0])
+        LAW_CALLS[self.dims] = LAW_CALLS.get(self.dims, 0) + 1
+        k = np.asarray(self.k, dtype=float)
+        tangent = elastic_tangent(np.broadcast_to(k, (u.shape[0],)), u.shape[0], self.dims)
+        return bearingfw.LawResponse(k[..., None] * u, tangent, state)
+
+
+from bearingfw.laws.coulomb import RegularizedCoulomb  # noqa: E402
+
+
+class CoupledCoulomb(RegularizedCoulomb):
+    """Regularized Coulomb friction with its dF/dN in Newton (``normal_coupling``)."""
+
+    name = "test-coupled-coulomb"
+    normal_coupling = True
+
+
+class LaggedCoulomb(RegularizedCoulomb):
+    """The same law without ``normal_coupling``: the kernel lets its ``N`` lag one iteration."""
+
+    name = "test-lagged-coulomb"
+    normal_coupling = False
+
+
+#: The protocol-v2 test laws, registered by :func:`registry_with_protocol_laws`.
+PROTOCOL_LAWS = (LinearDashpot, CountingSpring, CoupledCoulomb, LaggedCoulomb, DoubledSpring)
+
+
+def registry_with_protocol_laws(module_name: str = "bearingfw_protocol_test_plugin"):
+    """The installed plugins plus a test plugin registering :data:`PROTOCOL_LAWS` (a context manager)."""
+    return registry_with(PROTOCOL_LAWS, "protocol-test-laws", module_name)
+
+
+def with_uplift(model: Model, names=None) -> Model:
+    """``model`` with ``uplift=True`` on its PLANAR and AXIAL connectors (or those named)."""
+    connectors = tuple(
+        attrs.evolve(c, uplift=True) if c.kind != "join" and (names is None or c.name in names) else c
+        for c in model.connectors
+    )
+    return attrs.evolve(model, connectors=connectors)

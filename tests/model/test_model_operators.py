@@ -53,7 +53,9 @@ def test_frame_from_a_rotation_matrix():
         axes_from_rotation(np.diag([1.0, 1.0, -1.0]))
 
 
-def test_connectors_sharing_law_params_and_dims_share_one_law_object():
+def test_connectors_of_a_per_bearing_law_share_one_law_object_per_dims():
+    """linear-spring declares per_bearing: one object per dims, k an array where it differs
+    (tests/model/test_model_grouping.py: laws without per_bearing keep one object per parameter set)."""
     s = dict(vertical_stiffness=1e9)
     model = bearings(
         [
@@ -66,12 +68,13 @@ def test_connectors_sharing_law_params_and_dims_share_one_law_object():
         ]
     )
     ops = build_system(model).connectors
-    groups = [(g.law.name, g.law.k, g.dims, g.connectors.tolist()) for g in ops.groups]
-    assert groups == [("linear-spring", 1e8, 2, [0, 3]), ("linear-spring", 2e8, 2, [2]), ("linear-spring", 1e8, 1, [4])]
-    assert [(g.rows.start, g.rows.stop) for g in ops.groups] == [(0, 4), (4, 6), (6, 7)]
+    groups = [(g.law.name, np.asarray(g.law.k).tolist(), g.dims, g.connectors.tolist()) for g in ops.groups]
+    assert groups == [("linear-spring", [1e8, 2e8, 1e8], 2, [0, 2, 3]), ("linear-spring", 1e8, 1, [4])]
+    assert isinstance(ops.groups[1].law.k, float)  # equal over the group: a scalar, as before
+    assert [(g.rows.start, g.rows.stop) for g in ops.groups] == [(0, 6), (6, 7)]
     # springs: every non-JOIN connector; N of a group's connectors comes from its spring rows
     assert ops.spring_connectors.tolist() == [0, 2, 3, 4, 5]
-    assert ops.groups[0].springs.tolist() == [0, 2]
+    assert ops.groups[0].springs.tolist() == [0, 1, 2]
     # the fixed law ties connector 5's horizontal directions, the JOIN all three of connector 1
     assert sorted(ops.ties) == [(1, 0), (1, 1), (1, 2), (4, 1), (5, 0), (5, 1)]
 

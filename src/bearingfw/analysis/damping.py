@@ -23,7 +23,9 @@ vertical springs), never the bearing laws' tangent or initial stiffness. Two rea
   Dyn. 35, discuss these spurious forces. Energy the bearings dissipate comes from their laws.
 
 So a mode whose stiffness comes mainly from the bearing laws (a deck sliding on springs) gets
-only the mass-proportional part of the damping.
+only the mass-proportional part of the damping. The same holds for the vertical springs of
+bearings with ``uplift=True``: compression-only, they are a law of the kernel and not in ``K``
+(a dashpot ``beta kv`` across an open gap would hold the lifted girder down).
 """
 
 from __future__ import annotations

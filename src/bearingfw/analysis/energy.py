@@ -8,9 +8,14 @@ plus any dynamic nodal loads), and its power balance integrates to::
 
     E_kin      = 1/2 v^T M v                  kinetic (relative velocity)
     E_strain   = 1/2 x^T K x                  linear structure: members and vertical bearing springs
+                                              (those without uplift)
     E_damp     = int v^T C v dt               Rayleigh damping
     W_bearings = int (f - f_0) . dd           work of the bearing laws: their dissipation plus any
-                                              energy stored in them (stick springs, linear springs)
+                                              energy stored in them (stick springs, linear springs);
+                                              also of a law's viscous force (a velocity law) and of
+                                              uplift bearings' compression-only vertical springs
+                                              (elastic: while closed, 1/2 kv (d_z - d_z0)^2; while
+                                              open, the work of the dead load it no longer carries)
     W_input    = int v^T F dt                 work of the excitation
 
 The integrals are accumulated per step with the trapezoidal rule on the displacement increment,

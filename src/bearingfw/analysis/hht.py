@@ -35,12 +35,39 @@ law forces about the last step's converged point with its tangent,
 bearings, which then converge at their first law call (one call per step instead of two). The
 normal forces follow
 ``N = N_lin + c kv (V W) phi``, evaluated for the next iterate with ``phi`` linearised there
-(``phi - K_t delta``); the laws give no ``dphi/dN``, so their dependence on ``N`` lags one
-iteration and the change of ``N`` is part of the convergence test. After convergence
-``x = x_lin - c W phi`` (one dense n x m product). ``B`` and ``V`` act as one stacked operator
-(``[B; V] x``, ``[S; kv V W]``): one product gives both. General path (for checking): Newton on
-``x`` with the full tangent ``A + c B^T K_t B``, refactorised every iteration. Both solve the same
-equations.
+(``phi - K_t delta``); a law that gives no ``dphi/dN`` sees its ``N`` lag one iteration, and the
+change of ``N`` is part of the convergence test. After convergence ``x = x_lin - c W phi`` (one
+dense n x m product). ``B`` and ``V`` act as one stacked operator (``[B; V] x``,
+``[S; kv V W]``): one product gives both. General path (for checking): Newton on ``x`` with the
+full tangent ``A + c B^T K_t B``, refactorised every iteration. Both solve the same equations.
+
+Velocity (laws with ``uses_velocity``, :mod:`bearingfw.protocol`): they get the trial velocity of
+their directions at the trial point, ``B v_{n+1} = B vt + gamma / (beta h) (B x - B xt)`` with
+``B x = d - d_0`` (the preload's ``d_0`` is no motion), on both paths; so
+``dv/dd = gamma / (beta h)`` and ``K_t`` above is each law's ``tangent + gamma / (beta h)
+dforce_dvelocity``. A linear viscous law is then exactly HHT's damping force ``C v``.
+
+Normal-force coupling (laws with ``normal_coupling``: ``E = dphi/dN``, zero where ``N <= 0``,
+the kernel's clamp): on the fast path the normal forces of the coupled springs are Newton
+unknowns beside ``d``, scaled as vertical displacements ``nu = N / kv``. With ``x = x_lin - c W phi``
+the two equations and their exact Jacobian are::
+
+    g(d, nu) = d - d_lin + c S phi(d, kv nu) = 0
+    h(d, nu) = nu - nu_lin - c (V W) phi(d, kv nu) = 0       (nu_lin = N_lin / kv)
+
+    J = [ I + c S K_t      c S E_k     ]        E_k = E diag(kv)   (m x n_c)
+        [ -c (V W) K_t     I - c (V W) E_k ]
+
+(``V W`` the coupled springs' rows, ``Operator.cVW``), one dense solve of size ``m + n_c``. The
+other springs' ``N`` still follow the law forces linearised at the next iterate (above); the line
+search and the residual norm use ``(g, h)``, and the force residual's linearisation becomes
+``c (K_t g + E_k h)``. General path: ``N = N_0 - kv V x`` adds ``-c B^T E diag(kv) V`` to the
+tangent. Without a coupled law both paths are exactly those above.
+
+Uplift (``Connector(uplift=True)``): the compression-only vertical springs are rows of ``B`` ruled
+by the kernel's gap law (:class:`~bearingfw.model.connectors.CompressionOnlyGap`), not part of
+``K``, so the condensation treats them like any bearing direction; their ``N`` comes from ``V``
+as before and is zero whenever the gap is open.
 
 Line search (both paths): a friction bearing's tangent jumps between the stick stiffness and zero
 (sliding), so a full Newton correction computed in one regime overshoots into the other and the
@@ -163,10 +190,24 @@ class Problem:
     fast: bool
     mul: Products = attrs.field(init=False)
     d0_size: float = attrs.field(init=False)  # max |d_0|, part of the round-off allowances
+    #: spring rows whose N the laws' dF/dN couples into Newton (sorted), their kv, and where each
+    #: of ``ops.coupling_rows`` puts its dF/dN in ``E`` (flat index) and with which kv (:func:`_coupling`)
+    coupled: np.ndarray = attrs.field(init=False)
+    kv_coupled: np.ndarray = attrs.field(init=False)
+    coupling_slots: np.ndarray = attrs.field(init=False)
+    coupling_kv: np.ndarray = attrs.field(init=False)
 
     def __attrs_post_init__(self):
         object.__setattr__(self, "mul", Products.of(self.M, self.K, self.B, self.Bt, self.V))
         object.__setattr__(self, "d0_size", _inf(self.d0))
+        springs = self.ops.coupling_springs
+        coupled = np.unique(springs)
+        index = np.full(self.kv.size, -1, dtype=int)
+        index[coupled] = np.arange(coupled.size)
+        object.__setattr__(self, "coupled", coupled)
+        object.__setattr__(self, "kv_coupled", self.kv[coupled])
+        object.__setattr__(self, "coupling_slots", self.ops.coupling_rows * coupled.size + index[springs])
+        object.__setattr__(self, "coupling_kv", self.kv[springs])
 
     @property
     def m(self) -> int:
@@ -212,10 +253,16 @@ class Operator:
     cW: np.ndarray | None
     cSN: np.ndarray | None
     m: int = 0
+    #: the rows of ``cNW`` of the coupled springs over their ``kv`` (``c V W``: their vertical
+    #: displacement per unit law force), for the Jacobian with dF/dN (module docstring)
+    cVW: np.ndarray | None = None
     eye: np.ndarray = attrs.field(init=False, repr=False)
+    #: ``[c S; -c V W]``: both block rows of the Jacobian with dF/dN, one product each (module docstring)
+    cSV: np.ndarray | None = attrs.field(init=False, repr=False)
 
     def __attrs_post_init__(self):
         object.__setattr__(self, "eye", np.eye(self.m))
+        object.__setattr__(self, "cSV", None if self.cVW is None else np.vstack((self.cS, -self.cVW)))
 
     @property
     def cS(self) -> np.ndarray | None:
@@ -231,12 +278,14 @@ def build_operator(p: Problem, h: float) -> Operator:
     c = 1.0 + p.scheme.alpha
     A = effective_matrix(p.M, p.K, p.a0, p.a1, p.scheme, h)
     lu = factor(A)
-    cW = cSN = None
+    cW = cSN = cVW = None
     if p.fast and p.m:
         cW = c * lu.solve(p.Bt.toarray())
         cSN = np.asarray(p.mul.BV @ cW)
+        if p.coupled.size:
+            cVW = cSN[p.m + p.coupled].copy()
         cSN[p.m :] *= p.kv[:, None]
-    return Operator(h, None if p.fast else A, lu.solve, cW, cSN, p.m)
+    return Operator(h, None if p.fast else A, lu.solve, cW, cSN, p.m, cVW)
 
 
 @attrs.frozen(eq=False)
@@ -325,9 +374,41 @@ def _inf(a: np.ndarray) -> float:
     return float(np.abs(a).max()) if a.size else 0.0
 
 
-def _blocks(p: Problem, responses) -> list[tuple[slice, np.ndarray]]:
-    """The laws' tangents per group, ``(rows of B, (n, dims, dims))``: ``K_t`` is block diagonal."""
+def _blocks(p: Problem, responses, rate: float) -> list[tuple[slice, np.ndarray]]:
+    """The laws' tangents per group, ``(rows of B, (n, dims, dims))``: ``K_t`` is block diagonal.
+
+    For a law that uses the velocity, ``rate = dv/du = gamma / (beta h)`` times its
+    ``dforce_dvelocity`` is added (the velocity moves with the displacement)."""
+    if p.ops.any_velocity:
+        return [(g.rows, t) for g, t in zip(p.ops.groups, p.ops.tangent_blocks(responses, rate), strict=True)]
     return [(g.rows, np.asarray(r.tangent, dtype=float)) for g, r in zip(p.ops.groups, responses, strict=True)]
+
+
+def _coupling(p: Problem, responses, N: np.ndarray) -> np.ndarray | None:
+    """``E = (d phi / d N) diag(kv)`` on the coupled springs, (m, n_c): the change of the law forces
+    per unit vertical displacement ``nu = N / kv`` of those springs (zero where ``N <= 0``); None
+    when it is zero (every coupled bearing sticking, or without contact)."""
+    values = p.ops.normal_derivatives(responses, N)[2]
+    if not values.any():
+        return None
+    E = np.zeros(p.m * p.coupled.size)
+    E[p.coupling_slots] = values * p.coupling_kv
+    return E.reshape(p.m, p.coupled.size)
+
+
+@attrs.frozen(eq=False)
+class Motion:
+    """What a step needs to give the laws their trial velocity: ``rate = gamma / (beta h)`` and,
+    when a law uses the velocity, ``B v = B vt + rate (B x - B xt)`` with ``B x = d - d_0``."""
+
+    rate: float
+    Bvt: np.ndarray | None = None
+    Bxt: np.ndarray | None = None
+
+    def velocity(self, p: Problem, d: np.ndarray) -> np.ndarray | None:
+        if self.Bvt is None:
+            return None
+        return self.Bvt + self.rate * ((d - p.d0) - self.Bxt)
 
 
 def _tangent_times(blocks, vector: np.ndarray) -> np.ndarray:
@@ -382,9 +463,11 @@ class _FastTrial:
     blocks: list
     g: np.ndarray  # d - d_lin + c S phi
     N_new: np.ndarray  # N_lin + c kv (V W) phi: the normal forces these law forces imply
-    merit: float  # |g|
+    merit: float  # |g| (with dF/dN: |(g, h)|)
     tiny: bool  # |g| at round-off level
     finite: bool  # the law forces (they reach every entry of c S phi) and tangents
+    E: np.ndarray | None = None  # with dF/dN: _coupling at this iterate (None: zero)
+    h: np.ndarray | None = None  # with dF/dN: (N - N_new) / kv on the coupled springs
 
 
 def _stiffness(blocks) -> float:
@@ -418,7 +501,24 @@ def _predict(p: Problem, op: Operator, s: State, d_lin: np.ndarray, N_lin: np.nd
     return d_lin - sn[:m], N_lin + sn[m:]
 
 
-def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, force_scale: float):
+def _coupled_correction(p: Problem, op: Operator, trial: _FastTrial) -> tuple[np.ndarray, np.ndarray] | None:
+    """Newton's correction ``(delta, delta_nu)`` of the bearing displacements and of the coupled
+    springs' ``nu = N / kv`` (module docstring: the Jacobian with dF/dN), or None if singular.
+
+    ``J = I + [[c S K_t, c S E_k], [-c V W K_t, -c V W E_k]]``; with ``E_k = 0`` (no coupled
+    bearing sliding) its first block row alone gives ``delta``, and ``delta_nu = h + c V W K_t delta``.
+    """
+    m = p.m
+    if trial.E is None:
+        delta = _solve_dense(op.eye + _times_tangent(op.cS, trial.blocks), trial.g)
+        return None if delta is None else (delta, trial.h + op.cVW @ _tangent_times(trial.blocks, delta))
+    J = np.concatenate((_times_tangent(op.cSV, trial.blocks), op.cSV @ trial.E), axis=1)
+    J.flat[:: J.shape[0] + 1] += 1.0
+    x = _solve_dense(J, np.concatenate((trial.g, trial.h)))
+    return None if x is None else (x[:m], x[m:])
+
+
+def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, force_scale: float, motion: Motion):
     x_lin = op.solve(r)
     if not p.m:
         return x_lin, s.f, s.d, p.bearings(x_lin)[1], s.law_states, 0, 0, None
@@ -427,17 +527,26 @@ def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, for
     size = max(_inf(d_lin), p.d0_size)
     n_round = _ROUND * _inf(N_lin)
     m = p.m
+    coupled = p.coupled
+    rate = motion.rate
 
     def evaluate(d: np.ndarray, N: np.ndarray) -> _FastTrial:
-        responses = p.ops.respond(s.law_states, d, N, h)
+        responses = p.ops.respond(s.law_states, d, N, h, velocity=motion.velocity(p, d))
         f = p.ops.forces(responses)
-        blocks = _blocks(p, responses)
+        blocks = _blocks(p, responses, rate)
         phi = f - p.f0
         sn = op.cSN @ phi  # c S phi and the normal forces' change, one product
         g = d - d_lin + sn[:m]
-        merit = float(np.linalg.norm(g))
+        N_new = N_lin + sn[m:]
         finite = _finite(sn, *(t for _, t in blocks))
-        return _FastTrial(d, N, responses, f, phi, blocks, g, N_lin + sn[m:], merit, merit <= _ROUND * size, finite)
+        if not coupled.size:
+            merit = float(np.linalg.norm(g))
+            return _FastTrial(d, N, responses, f, phi, blocks, g, N_new, merit, merit <= _ROUND * size, finite)
+        E = _coupling(p, responses, N)
+        gap = (N[coupled] - N_new[coupled]) / p.kv_coupled
+        merit = float(np.sqrt(g @ g + gap @ gap))
+        finite = finite and (E is None or _finite(E))
+        return _FastTrial(d, N, responses, f, phi, blocks, g, N_new, merit, merit <= _ROUND * size, finite, E, gap)
 
     trial = evaluate(*_predict(p, op, s, d_lin, N_lin))
     eye = op.eye
@@ -446,42 +555,63 @@ def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, for
     for it in range(1, p.max_iterations + 1):
         if not trial.finite:
             raise StepFailure("a law returned a non-finite force or tangent", np.inf, ~np.isfinite(trial.f), it)
-        delta = _solve_dense(eye + _times_tangent(op.cS, trial.blocks), trial.g)
+        if coupled.size:
+            correction = _coupled_correction(p, op, trial)
+            delta, delta_nu = (None, None) if correction is None else correction
+        else:
+            delta = _solve_dense(eye + _times_tangent(op.cS, trial.blocks), trial.g)
         if delta is None:
             raise StepFailure("singular condensed Jacobian", np.inf, np.abs(trial.g), it)
         d, N, f = trial.d, trial.N, trial.f
+        # force residual: the linearisation c (K_t g + E h) of c B^T (phi(B x, N(x)) - phi(d, N))
+        linear_residual = _tangent_times(trial.blocks, trial.g)
+        if trial.E is not None:
+            linear_residual = linear_residual + trial.E @ trial.h
         converged = (  # cheapest and most often failing test first
             _inf(delta) <= p.tol_displacement * max(_inf(d - s.d), _inf(d - p.d0)) + _ROUND * size
             and _inf(trial.N_new - N) <= p.tol_force * max(_inf(N), _inf(trial.N_new)) + n_round
-            # force residual: the linearisation c K_t g of c B^T (phi(B x) - phi(d))
-            and c * _inf(_tangent_times(trial.blocks, trial.g))
+            and c * _inf(linear_residual)
             <= p.tol_force * max(force_scale, _inf(f)) + _ROUND * c * _stiffness(trial.blocks) * size
         )
         if converged:
             states = tuple(rr.state for rr in trial.responses)
             return x_lin - op.cW @ trial.phi, f, d, N, states, it, backtracks, trial.blocks
-        # N for the next iterate from the law forces linearised there (exact for linear laws, so
-        # they converge in two evaluations); the laws' own dependence on N lags one iteration.
-        dN = op.cNW @ _tangent_times(trial.blocks, delta)
         base = trial
+        if coupled.size:
+            # N of the coupled springs is a Newton unknown; the others' N follows the law forces
+            # linearised at the next iterate, as below
+            change = _tangent_times(trial.blocks, delta)
+            dN = op.cNW @ (change if trial.E is None else change + trial.E @ delta_nu)
+            dN_coupled = p.kv_coupled * delta_nu
 
-        def trial_at(lam: float, base=base, delta=delta, dN=dN) -> _FastTrial:
-            return evaluate(base.d - lam * delta, base.N_new - lam * dN)
+            def trial_at(lam: float, base=base, delta=delta, dN=dN, dN_coupled=dN_coupled) -> _FastTrial:
+                N_next = base.N_new - lam * dN
+                N_next[coupled] = base.N[coupled] - lam * dN_coupled
+                return evaluate(base.d - lam * delta, N_next)
+        else:
+            # N for the next iterate from the law forces linearised there (exact for linear laws, so
+            # they converge in two evaluations); the laws' own dependence on N lags one iteration.
+            dN = op.cNW @ _tangent_times(trial.blocks, delta)
+
+            def trial_at(lam: float, base=base, delta=delta, dN=dN) -> _FastTrial:
+                return evaluate(base.d - lam * delta, base.N_new - lam * dN)
 
         trial, k = _line_search(trial_at, base)
         backtracks += k
     if not trial.finite:
         raise StepFailure("a law returned a non-finite force or tangent", np.inf, ~np.isfinite(trial.f), p.max_iterations)
-    raise StepFailure("no convergence", _fast_residual(p, s, h, trial) / force_scale, np.abs(delta), p.max_iterations)
+    residual = _fast_residual(p, s, h, trial, motion)
+    raise StepFailure("no convergence", residual / force_scale, np.abs(delta), p.max_iterations)
 
 
-def _fast_residual(p: Problem, s: State, h: float, trial: _FastTrial) -> float:
+def _fast_residual(p: Problem, s: State, h: float, trial: _FastTrial, motion: Motion) -> float:
     """The true force residual of the fast path's iterate (one extra law call; for reporting).
 
     ``x = x_lin - c W phi(d)`` has law displacements ``d - g`` and normal forces ``N_new``; its
     residual ``A x + c B^T phi(B x) - r`` is ``c B^T (phi(d - g) - phi(d))``.
     """
-    responses = p.ops.respond(s.law_states, trial.d - trial.g, trial.N_new, h)
+    d = trial.d - trial.g
+    responses = p.ops.respond(s.law_states, d, trial.N_new, h, velocity=motion.velocity(p, d))
     phi = p.ops.forces(responses) - p.f0
     residual = (1.0 + p.scheme.alpha) * _inf(p.mul.Bt @ (phi - trial.phi))
     return residual if np.isfinite(residual) else np.inf
@@ -501,7 +631,22 @@ class _GeneralTrial:
     finite: bool
 
 
-def _solve_general(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, force_scale: float):
+def _general_jacobian(p: Problem, op: Operator, trial: _GeneralTrial, rate: float):
+    """``A + c B^T d phi/dx``: the laws' tangents (with ``rate`` times dF/dv) and, for laws with
+    dF/dN, ``N = N_0 - kv V x``'s part, ``-B^T E diag(kv) V``."""
+    c = 1.0 + p.scheme.alpha
+    Kt = p.ops.tangent(trial.responses, rate) if p.ops.any_velocity else p.ops.tangent(trial.responses)
+    stiffness = p.Bt @ Kt @ p.B
+    if p.coupled.size:
+        rows, springs, values = p.ops.normal_derivatives(trial.responses, trial.N)
+        En = sp.csr_matrix((-values * p.kv[springs], (rows, springs)), shape=(p.m, p.kv.size))
+        stiffness = stiffness + p.Bt @ (En @ p.V)
+    return op.A + c * stiffness
+
+
+def _solve_general(
+    p: Problem, op: Operator, s: State, r: np.ndarray, h: float, force_scale: float, motion: Motion
+):
     c = 1.0 + p.scheme.alpha
     if not p.m:
         x = op.solve(r)
@@ -509,7 +654,7 @@ def _solve_general(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, 
 
     def evaluate(x: np.ndarray) -> _GeneralTrial:
         d, N = p.bearings(x)
-        responses = p.ops.respond(s.law_states, d, N, h)
+        responses = p.ops.respond(s.law_states, d, N, h, velocity=motion.velocity(p, d))
         f = p.ops.forces(responses)
         Bt_phi = p.mul.Bt @ (f - p.f0)
         R = op.A @ x + c * Bt_phi - r
@@ -523,9 +668,8 @@ def _solve_general(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, 
     for it in range(1, p.max_iterations + 1):
         if not trial.finite:
             raise StepFailure("a law returned a non-finite force or tangent", np.inf, ~np.isfinite(trial.f), it)
-        Kt = p.ops.tangent(trial.responses)
         try:
-            dx = -factor(op.A + c * (p.Bt @ Kt @ p.B)).solve(trial.R)
+            dx = -factor(_general_jacobian(p, op, trial, motion.rate)).solve(trial.R)
         except (ModelError, RuntimeError):  # a singular tangent: name the bearings most out of balance
             raise StepFailure("singular tangent matrix", np.inf, np.abs(p.mul.B @ trial.R), it) from None
         delta = p.mul.B @ dx
@@ -555,8 +699,10 @@ def step(p: Problem, op: Operator, s: State, t1: float, load1: np.ndarray) -> tu
     al = sch.alpha
     r, xt, vt = effective_rhs(p, s, h, load1)
     force_scale = max(_inf(load1), _inf(s.f), p.force_floor)
+    rate = sch.gamma / (sch.beta * h)
+    motion = Motion(rate, p.mul.B @ vt, p.mul.B @ xt) if p.ops.any_velocity and p.m else Motion(rate)
     solver = _solve_fast if p.fast else _solve_general
-    x, f, d, N, law_states, iterations, backtracks, tangents = solver(p, op, s, r, h, force_scale)
+    x, f, d, N, law_states, iterations, backtracks, tangents = solver(p, op, s, r, h, force_scale, motion)
     if not _finite(x):
         raise StepFailure("non-finite displacements", np.inf, np.ones(p.m), iterations)
     a = (x - xt) / (sch.beta * h * h)

@@ -10,7 +10,7 @@ Saved as one NPZ file that opens without bearingfw::
 Keys: ``time`` (committed integration steps), every recorder's arrays (``<name>...``, see
 :mod:`bearingfw.analysis.recorders`), ``energy.<column>`` (``time`` and
 :data:`~bearingfw.analysis.energy.ENERGY_COLUMNS`, J, one row per integration step), ``meta``
-(JSON: ``recorders``, ``settings``, ``stats``, ``completed``, ``message``; a non-finite number,
+(JSON: ``recorders``, ``settings``, ``stats``, ``uplift``, ``completed``, ``message``; a non-finite number,
 e.g. the residual of a failed step, is written as ``null``, so the file is strict JSON).
 
 The file is written member by member (not through ``np.savez(**arrays)``), so any key is safe,
@@ -50,6 +50,12 @@ class TransientResult:
     halved), ``backtracks`` (line-search halvings), ``factorizations``, ``setup_time``,
     ``loop_time`` and ``wall_time`` (s), ``preload_residual``, ``alpha`` (HHT), ``energy_error``,
     ``balance_error``, ``numerical_dissipation``.
+
+    ``uplift``: per connector with ``uplift=True`` (by name), over every integration step (not
+    only the recorded samples): ``lift_offs`` (how many times its gap opened), ``lifted_time``
+    (s, the time it was open; a step in which it opens or closes counts the part with the gap
+    open, the gap taken linear over the step) and ``peak_gap`` (m, the largest opening, 0 if it
+    never lifted). Empty for a model without uplift connectors.
     """
 
     time: np.ndarray
@@ -60,6 +66,7 @@ class TransientResult:
     settings: dict[str, Any] = attrs.field(factory=dict)
     completed: bool = True
     message: str = ""
+    uplift: dict[str, dict[str, float]] = attrs.field(factory=dict)
 
     def __getitem__(self, key: str) -> np.ndarray:
         try:
@@ -97,6 +104,7 @@ class TransientResult:
             "recorders": self.recorders,
             "settings": self.settings,
             "stats": self.stats,
+            "uplift": self.uplift,
             "completed": self.completed,
             "message": self.message,
         }
@@ -131,6 +139,7 @@ class TransientResult:
             settings=meta["settings"],
             completed=meta["completed"],
             message=meta["message"],
+            uplift=meta.get("uplift", {}),
         )
 
 

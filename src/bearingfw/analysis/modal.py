@@ -4,7 +4,9 @@ Linearisation: each connector enters with its law's *initial* tangent,
 ``respond(initial_state(n), zeros, N, dt).tangent`` with ``N`` from the gravity preload (by
 default with the bearings set after the dead load, where the laws' displacement is zero); so a
 frictionless law leaves the direction free, a linear spring adds ``k``, regularized Coulomb its
-stick stiffness ``k``, and a rigid law is already a tie in ``T``. The eigenproblem
+stick stiffness ``k``, and a rigid law is already a tie in ``T``. A bearing with ``uplift=True``
+enters closed, with its vertical stiffness ``kv`` (linearised about the preload, which keeps it
+closed), and a law that uses the velocity with its ``tangent`` at zero velocity. The eigenproblem
 ``K_t phi = omega^2 M phi`` on the free DOFs is solved for the lowest modes by shift-invert
 Lanczos (``eigsh`` with a shift ``sigma < 0`` below every eigenvalue, so that zero-frequency
 mechanisms are found too and ``M`` may be singular, e.g. lumped mass without rotary inertia),

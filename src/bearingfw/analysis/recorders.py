@@ -20,7 +20,11 @@ ConnectorResponse      ``<name>.force`` (t, c, 3) local x, y, z forces resisting
                        ``slip(state)`` (the irreversible displacement, see the law protocol) in
                        its directions, NaN for a law without ``slip``; ``.friction_ratio`` (t, c)
                        ``|F_law| / N``, the force in the law's directions (not a guide's or a
-                       tie's reaction) over ``N`` (NaN when ``N <= 0`` or the connector has no law)
+                       tie's reaction) over ``N`` (NaN when ``N <= 0``, e.g. lifted off, or the
+                       connector has no law); only when the connectors include one with
+                       ``uplift=True``: ``.gap`` (t, c) its vertical gap ``max(d_z, 0)`` (m; 0
+                       while closed, NaN for connectors without uplift) and ``.lifted`` (t, c)
+                       True while it is open
 NodalResponse          ``<name>``: (t, nodes, components) displacement, velocity or acceleration
 =====================  =====================================================================
 
@@ -408,6 +412,8 @@ class _ConnectorProbe(_Probe):
         self.governed = np.zeros((self.index.size, 3), dtype=bool)
         self.slots: list[tuple[int, np.ndarray, np.ndarray, np.ndarray]] = []  # (group, members, rows, slot index)
         for gi, g in enumerate(ops.groups):
+            if g.gap:
+                continue  # the uplift springs' rows: recorded as the gap (below), not as law directions
             members, slot = [], []
             for pos, c in enumerate(g.connectors.tolist()):
                 if c in selected:
@@ -425,6 +431,13 @@ class _ConnectorProbe(_Probe):
             law = ops.groups[gi].law
             if hasattr(law, "slip"):
                 self.slips.append((gi, law.slip, members, slot))
+        # uplift connectors: their gap rows of B, and where they go among the selected connectors
+        gap = ops.gap_group
+        self.gap_rows, self.gap_slots = np.zeros(0, int), np.zeros(0, int)
+        if gap is not None:
+            pos = [(k, selected[int(c)]) for k, c in enumerate(gap.connectors.tolist()) if int(c) in selected]
+            self.gap_rows = np.array([gap.rows.start + k for k, _ in pos], dtype=int)
+            self.gap_slots = np.array([slot for _, slot in pos], dtype=int)
         self.law_rows = np.concatenate([rows_b for _, _, rows_b, _ in self.slots]) if self.slots else np.zeros(0, int)
         self.law_slots = np.concatenate([slot for _, _, _, slot in self.slots]) if self.slots else np.zeros(0, int)
         self.reference = np.asarray(ctx.preload.law_reference, dtype=float)
@@ -437,7 +450,7 @@ class _ConnectorProbe(_Probe):
         self.springs0 = ops.V @ ctx.preload.u if ops.spring_connectors.size else None
         self.kv = ops.kv
         self.ctx = ctx
-        self.forces, self.disp, self.law_disp, self.slip = [], [], [], []
+        self.forces, self.disp, self.law_disp, self.slip, self.gaps = [], [], [], [], []
 
     def _sample(self, s: Snapshot) -> None:
         ctx = self.ctx
@@ -457,6 +470,10 @@ class _ConnectorProbe(_Probe):
             slip[slot] = np.asarray(slip_of(s.law_states[gi]), dtype=float)[members].reshape(-1)
         self.law_disp.append(law_disp.reshape(-1, 3))
         self.slip.append(slip.reshape(-1, 3))
+        if self.gap_rows.size:
+            gap = np.full(self.index.size, np.nan)
+            gap[self.gap_slots] = d[self.gap_rows]  # the total d_z: > 0 open
+            self.gaps.append(gap)
 
     def _finish(self):
         name = self.label
@@ -477,9 +494,15 @@ class _ConnectorProbe(_Probe):
             f"{name}.slip": np.array(self.slip).reshape(-1, c, 3),
             f"{name}.friction_ratio": ratio,
         }
+        units = {"force": "N", "displacement": "m", "law_displacement": "m", "normal_force": "N", "slip": "m",
+                 "friction_ratio": "-"}
+        if self.gap_rows.size:
+            dz = np.array(self.gaps).reshape(-1, c)
+            data[f"{name}.gap"] = np.where(np.isnan(dz), np.nan, np.maximum(dz, 0.0))
+            data[f"{name}.lifted"] = dz > 0.0  # NaN (no uplift) compares False
+            units.update(gap="m", lifted="-")
         meta = {"kind": "connector response", "connectors": list(self.names), "directions": ["x", "y", "z"],
-                "units": {"force": "N", "displacement": "m", "law_displacement": "m", "normal_force": "N",
-                          "slip": "m", "friction_ratio": "-"}}
+                "units": units}
         return data, meta
 
 

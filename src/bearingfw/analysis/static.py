@@ -11,7 +11,9 @@ laws' displacement is zero. How the bearings take part is the option ``bearings`
 - ``"active"`` (default of :func:`solve_static`): the laws act from their virgin state at the
   undeformed geometry (``d_ref = 0``). Newton with the laws' consistent tangents, one load step
   (a linear law converges in one iteration); within an iteration ``N`` is taken from the current
-  iterate (its derivative is not part of the tangent). Under gravity a friction bearing whose
+  iterate (its derivative is not part of the tangent), except that a first iteration at which
+  the laws' tangents at ``N = 0`` leave the structure a mechanism (friction without contact has
+  no stick stiffness) is taken with ``N`` of the load carried by the vertical springs. Under gravity a friction bearing whose
   girder end moves (rotation times the soffit offset, shortening) may slip already.
 - ``"set-after-dead-load"`` (default of :func:`gravity`): the bearings are installed in the
   dead-load position, as usual in practice (preset so that the dead-load movements are
@@ -20,6 +22,13 @@ laws' displacement is zero. How the bearings take part is the option ``bearings`
   (zero slip, zero force) and ``d_ref = B u``, so that their displacement is zero there. (Laws
   are taken to exert no force at zero displacement from their initial state, as every built-in
   law does.)
+
+Uplift bearings (``Connector(uplift=True)``): their compression-only vertical springs are a law
+of the kernel (:class:`~bearingfw.model.connectors.CompressionOnlyGap`) on the total ``d_z``,
+never set after the dead load (``d_ref = 0`` there). ``"active"`` lets them open like any law;
+``"set-after-dead-load"`` carries the load with them closed (their stiffness ``kv`` in the solve)
+and raises a :class:`~bearingfw.model.ModelError` naming the bearings that this load pulls
+(tension that they cannot carry).
 
 In ``"set-after-dead-load"``, motions that only the bearings restrain (a girder resting on
 sliding bearings alone, its rigid horizontal translation) are left undetermined by the
@@ -165,7 +174,8 @@ def initial_tangent(system: System, normal_forces: np.ndarray | None = None, dt:
     """``K_free + B_free^T K_t B_free`` with every law's initial tangent (symmetrised).
 
     ``K_t`` is ``respond(initial_state(n), 0, N, dt).tangent``: the laws in their virgin state at
-    zero law displacement (for bearings set after the dead load: at the dead-load position).
+    zero law displacement (for bearings set after the dead load: at the dead-load position), at
+    zero velocity; the uplift bearings' gap law closed (its ``kv``).
     ``normal_forces`` per connector (default zero) are passed to the laws.
     """
     ops = system.connectors
@@ -356,7 +366,40 @@ def _lost_stiffness(system: System, responses, N_springs: np.ndarray, dt: float)
 
 
 def _active(system: System, f: np.ndarray, dt: float, tol: float, max_iter: int):
-    """Newton with the laws acting from their virgin state (``bearings="active"``)."""
+    """Newton with the laws acting from their virgin state (``bearings="active"``).
+
+    The first iteration is at the undeformed geometry, where every ``N`` is zero. If the laws'
+    tangents leave the structure a mechanism there (a friction law has no stick stiffness without
+    contact), it is taken again with the normal forces of the load carried by the vertical springs
+    (the governed directions free; :func:`_carried_normal_forces`), and Newton goes on from there.
+    """
+    try:
+        return _newton_active(system, f, dt, tol, max_iter, None)
+    except ModelError:
+        N_start = _carried_normal_forces(system, f)
+        if N_start is None:
+            raise
+        return _newton_active(system, f, dt, tol, max_iter, N_start)
+
+
+def _carried_normal_forces(system: System, f: np.ndarray) -> np.ndarray | None:
+    """The springs' normal forces when the load is carried with the governed directions free (one
+    solve of the stabilised ``K_free``, uplift springs closed), or None if even that is singular."""
+    ops = system.connectors
+    K = system.K_free
+    if ops.gap_rows.size:
+        B_gap = system.B_free[ops.gap_rows]
+        K = K + B_gap.T @ sp.diags(ops.gap_group.law.kv) @ B_gap
+    kappa = STABILIZER * max(float(abs(K.diagonal()).max(initial=0.0)), 1e-300)
+    try:
+        q = factorize(K + kappa * (system.B_free.T @ system.B_free), system=system).solve(system.T.T @ f)
+    except ModelError:
+        return None
+    return ops.normal_forces(system.V_free @ q)
+
+
+def _newton_active(system: System, f: np.ndarray, dt: float, tol: float, max_iter: int, N_start):
+    """:func:`_active`'s Newton; ``N_start``: the normal forces of the first iteration (None: from ``q = 0``)."""
     ops = system.connectors
     T = system.T
     f_free = T.T @ f
@@ -364,7 +407,7 @@ def _active(system: System, f: np.ndarray, dt: float, tol: float, max_iter: int)
     q = np.zeros(system.n_free)
     for iteration in range(max_iter + 1):
         u = T @ q
-        N = ops.normal_forces(ops.V @ u)
+        N = ops.normal_forces(ops.V @ u) if iteration or N_start is None else N_start
         responses = ops.respond(states0, ops.B @ u, N, dt)
         f_law = ops.forces(responses)
         residual = system.K_free @ q + system.B_free.T @ f_law - f_free
@@ -400,6 +443,10 @@ def _set_after_dead_load(system: System, f: np.ndarray, dt: float, tol: float, m
     T = system.T
     f_free = T.T @ f
     K = system.K_free
+    gap_rows = ops.gap_rows
+    if gap_rows.size:  # uplift bearings carry the load closed: their springs' stiffness kv
+        B_gap = system.B_free[gap_rows]
+        K = (K + B_gap.T @ sp.diags(ops.gap_group.law.kv) @ B_gap).tocsr()
     # A tiny stiffness in the governed directions fixes the motions only the bearings restrain;
     # the refinement below removes its force from everything the load deforms.
     kappa = STABILIZER * max(float(abs(K.diagonal()).max(initial=0.0)), 1e-300)
@@ -432,7 +479,28 @@ def _set_after_dead_load(system: System, f: np.ndarray, dt: float, tol: float, m
     u = T @ q
     N = ops.normal_forces(ops.V @ u)
     _check_mechanism_with_laws(system, N, dt)
-    return u, np.zeros(ops.n_governed), ops.initial_states(), ops.B @ u, iteration
+    f_law = np.zeros(ops.n_governed)
+    reference = ops.B @ u
+    if gap_rows.size:
+        f_law[gap_rows] = _closed_gap_forces(system, reference[gap_rows])
+        reference[gap_rows] = 0.0  # the gap law sees the total d_z
+    return u, f_law, ops.initial_states(), reference, iteration
+
+
+def _closed_gap_forces(system: System, d_gap: np.ndarray) -> np.ndarray:
+    """The forces ``kv d_z`` of the uplift bearings' springs, closed; an error if the load pulls any."""
+    ops = system.connectors
+    group = ops.gap_group
+    pulled = d_gap > 0.0
+    if np.any(pulled):
+        names = [system.model.connectors[c].name for c in group.connectors[pulled]]
+        tension = group.law.kv[pulled] * d_gap[pulled]
+        raise ModelError(
+            "gravity/solve_static (bearings='set-after-dead-load'): the load pulls the uplift bearing(s) "
+            f"{', '.join(map(repr, names))} (tension {', '.join(f'{t:.3g}' for t in tension)} N), which cannot "
+            "carry tension; make them uplift=False, or use bearings='active' to let them lift off"
+        )
+    return group.law.kv * d_gap
 
 
 def solve_static(

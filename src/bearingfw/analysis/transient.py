@@ -12,7 +12,11 @@ at zero law displacement, in stick), ``v_0 = 0``. The dead load stays applied as
 is an exact rest state; the unknowns are the dynamic part ``x = q - q_0``. ``a_0`` follows from
 ``M a_0 = F(0)`` (zero when the excitation starts at rest; massless DOFs follow the massive ones
 quasi-statically). Bearing normal forces ``N = -kv V q`` follow the vertical response: every law
-call reads the current ``N``.
+call reads the current ``N`` (and a law that declares ``uses_velocity`` its trial velocity,
+:mod:`bearingfw.analysis.hht`). A bearing with ``uplift=True`` lifts off when its vertical spring
+would pull: ``N = 0``, no vertical stiffness, no friction, until the gap closes again
+(:mod:`bearingfw.model.connectors`); :attr:`TransientResult.uplift` counts the lift-offs, the time
+lifted and the peak gap of each, over every integration step.
 
 Time stepping (:mod:`bearingfw.analysis.hht`): HHT-alpha, ``gamma = 1/2 - alpha``,
 ``beta = (1 - alpha)^2 / 4``; Newton with the laws' consistent tangents, on the bearing
@@ -27,7 +31,9 @@ the result recorded up to the last converged instant. An exception from a law, a
 the original as its ``__cause__``).
 
 Damping: :class:`~bearingfw.analysis.damping.Rayleigh`, ``C = alpha M + beta K_free`` with
-``K_free`` the linear structure (not the laws: see :mod:`bearingfw.analysis.damping` for why).
+``K_free`` the linear structure (not the laws: see :mod:`bearingfw.analysis.damping` for why;
+nor the compression-only springs of uplift bearings, which are laws of the kernel: a dashpot
+across an open gap would pull the lifted girder back).
 
 Energy: kinetic, strain, damping, bearing work and input work are accumulated every step
 (:mod:`bearingfw.analysis.energy`); ``TransientResult.energy_error`` reports the imbalance, which
@@ -204,13 +210,42 @@ def build_problem(system: System, preload: StaticResult, damping: Rayleigh, sett
     )
 
 
+class _UpliftTally:
+    """Lift-offs, time lifted and peak gap of the uplift connectors, from every committed (sub)step
+    (:attr:`TransientResult.uplift`)."""
+
+    def __init__(self, system: System, problem: hht.Problem):
+        ops = system.connectors
+        self.rows = ops.gap_rows
+        self.names = [system.model.connectors[c].name for c in ops.gap_group.connectors] if self.rows.size else []
+        self.lift_offs = np.zeros(self.rows.size, dtype=int)
+        self.lifted_time = np.zeros(self.rows.size)
+        self.peak_gap = np.maximum(problem.d0[self.rows], 0.0)
+
+    def advance(self, d_before: np.ndarray, d_after: np.ndarray, h: float) -> None:
+        a, b = d_before[self.rows], d_after[self.rows]  # total d_z: > 0 open
+        opens, closes = (a <= 0.0) & (b > 0.0), (a > 0.0) & (b <= 0.0)
+        self.lift_offs += opens
+        # the part of the step with the gap open, the gap linear over the step
+        with np.errstate(divide="ignore", invalid="ignore"):
+            part = np.where(opens, b / (b - a), np.where(closes, a / (a - b), np.where(a > 0.0, 1.0, 0.0)))
+        self.lifted_time += h * part
+        self.peak_gap = np.maximum(self.peak_gap, b)
+
+    def summary(self) -> dict[str, dict[str, float]]:
+        return {
+            name: {"lift_offs": int(n), "lifted_time": float(t), "peak_gap": float(g)}
+            for name, n, t, g in zip(self.names, self.lift_offs, self.lifted_time, self.peak_gap, strict=True)
+        }
+
+
 class _Run:
     """The time loop: sub-stepping, recording, statistics."""
 
-    def __init__(self, problem: hht.Problem, excitation: Excitation, ctx: Context, probes, k: int, progress):
+    def __init__(self, problem: hht.Problem, excitation: Excitation, probes, k: int, progress, system: System):
         self.p = problem
         self.exc = excitation
-        self.ctx = ctx
+        self.system = system
         self.probes = probes
         self.h = excitation.dt / k
         self.n_steps = (excitation.steps - 1) * k
@@ -225,6 +260,7 @@ class _Run:
         self.energy_times: list[float] = []
         self.times: list[float] = []
         self.last: hht.State | None = None
+        self.uplift = _UpliftTally(system, problem) if problem.ops.gap_group is not None else None
 
     def operator(self, h: float) -> hht.Operator:
         if h not in self.operators:
@@ -264,6 +300,8 @@ class _Run:
         self.stats["iterations"] += iterations
         self.stats["backtracks"] += backtracks
         self.stats["max_iterations"] = max(self.stats["max_iterations"], iterations)
+        if self.uplift is not None:
+            self.uplift.advance(s.d, new.d, h)
         self.last = new
         return new
 
@@ -328,17 +366,37 @@ def solve_transient(
     converge, or when a law, a recorder or ``progress`` raises (the original is its ``__cause__``).
     """
     wall = _time.perf_counter()
+    settings, damping = _checked_options(settings, damping)
+    system, preload = _system_and_preload(system_or_model, preload, registry)
+    excitation = build_excitation(system, ground_acceleration, dt, nodal_loads)
+    k = _substeps(settings, excitation.dt)
+    problem = build_problem(system, preload, damping, settings)
+    probes = _bind_recorders(recorders, Context(system, preload, excitation, damping.alpha, damping.beta))
+    state = _at_rest(problem, preload, excitation)
+    run = _Run(problem, excitation, probes, k, progress, system)
+    run.operator(run.h)  # the nominal step's factors: part of the setup
+    report = _Report(run, probes, settings, damping, system, preload, wall)
+    try:
+        run.run(state, settings.max_halvings)
+    except _Failed as failed:
+        raise _no_convergence(failed, run, state, report) from None
+    except Exception as exc:  # a law, a recorder or progress: keep what was computed, chain the cause
+        raise _stopped(exc, run, state, report) from exc
+    return report.result(True, "")
+
+
+def _checked_options(settings, damping) -> tuple[TransientSettings, Rayleigh]:
     settings = TransientSettings() if settings is None else settings
     if not isinstance(settings, TransientSettings):
         raise ParameterError(f"solve_transient: 'settings' must be TransientSettings, got {type(settings).__name__}")
     damping = Rayleigh() if damping is None else damping
     if not isinstance(damping, Rayleigh):
         raise ParameterError(f"solve_transient: 'damping' must be a Rayleigh object, got {type(damping).__name__}")
-    system, preload = _system_and_preload(system_or_model, preload, registry)
-    excitation = build_excitation(system, ground_acceleration, dt, nodal_loads)
-    k = _substeps(settings, excitation.dt)
-    problem = build_problem(system, preload, damping, settings)
-    ctx = Context(system, preload, excitation, damping.alpha, damping.beta)
+    return settings, damping
+
+
+def _bind_recorders(recorders: Sequence, ctx: Context) -> list:
+    """Check the recorders (objects with distinct valid names) and bind them to the run."""
     recorders = list(recorders)
     if any(not hasattr(r, "bind") for r in recorders):
         raise ParameterError(
@@ -353,34 +411,48 @@ def solve_transient(
         )
     if len(set(labels)) != len(labels):
         raise ParameterError(f"solve_transient: two recorders share a name: {labels}; give them distinct 'name's")
-    probes = [r.bind(ctx) for r in recorders]
+    return [r.bind(ctx) for r in recorders]
 
+
+def _at_rest(problem: hht.Problem, preload: StaticResult, excitation: Excitation) -> hht.State:
+    """The start: the preload at rest, with the acceleration of the excitation at t = 0."""
     load0 = excitation.load(0.0)
-    state = hht.initial_state(
+    return hht.initial_state(
         problem, tuple(preload.law_states), load0, initial_acceleration(problem.M, problem.K, load0)
     )
-    run = _Run(problem, excitation, ctx, probes, k, progress)
-    run.operator(run.h)  # the nominal step's factors: part of the setup
-    described = {
-        "alpha": settings.alpha,
-        "gamma": problem.scheme.gamma,
-        "beta": problem.scheme.beta,
-        "dt": excitation.dt,
-        "dt_integration": run.h,
-        "tol_force": settings.tol_force,
-        "tol_displacement": settings.tol_displacement,
-        "max_iterations": settings.max_iterations,
-        "max_halvings": settings.max_halvings,
-        "path": settings.path,
-        "rayleigh": [damping.alpha, damping.beta],
-    }
-    residual = system.K_free @ preload.q + system.B_free.T @ problem.f0 - system.reduce(preload.load)
-    dead = float(np.max(np.abs(system.reduce(preload.load)), initial=0.0))
-    setup = _time.perf_counter() - wall
 
-    def result(completed: bool, message: str) -> TransientResult:
+
+class _Report:
+    """What a :class:`TransientResult` holds besides the recorders' arrays: the settings as run, the
+    statistics, the preload's residual; builds the result when the run ends (or fails)."""
+
+    def __init__(self, run: _Run, probes, settings: TransientSettings, damping: Rayleigh, system: System,
+                 preload: StaticResult, wall: float):
+        problem = run.p
+        self.run, self.probes, self.settings, self.wall = run, probes, settings, wall
+        self.described = {
+            "alpha": settings.alpha,
+            "gamma": problem.scheme.gamma,
+            "beta": problem.scheme.beta,
+            "dt": run.exc.dt,
+            "dt_integration": run.h,
+            "tol_force": settings.tol_force,
+            "tol_displacement": settings.tol_displacement,
+            "max_iterations": settings.max_iterations,
+            "max_halvings": settings.max_halvings,
+            "path": settings.path,
+            "rayleigh": [damping.alpha, damping.beta],
+        }
+        dead = system.reduce(preload.load)
+        residual = system.K_free @ preload.q + system.B_free.T @ problem.f0 - dead
+        scale = float(np.max(np.abs(dead), initial=0.0))
+        self.preload_residual = float(np.max(np.abs(residual), initial=0.0)) / scale if scale else 0.0
+        self.setup = _time.perf_counter() - wall
+
+    def result(self, completed: bool, message: str) -> TransientResult:
+        run = self.run
         data, meta = {}, {}
-        for probe in probes:
+        for probe in self.probes:
             arrays, description = probe.finish()
             data.update(arrays)
             meta[probe.label] = description
@@ -388,11 +460,11 @@ def solve_transient(
         now = _time.perf_counter()
         stats.update(
             factorizations=len(run.operators),
-            setup_time=setup,
-            loop_time=now - wall - setup,
-            wall_time=now - wall,
-            preload_residual=float(np.max(np.abs(residual), initial=0.0)) / dead if dead else 0.0,
-            alpha=settings.alpha,
+            setup_time=self.setup,
+            loop_time=now - self.wall - self.setup,
+            wall_time=now - self.wall,
+            preload_residual=self.preload_residual,
+            alpha=self.settings.alpha,
         )
         res = TransientResult(
             time=np.array(run.times),
@@ -400,9 +472,10 @@ def solve_transient(
             energy=energy_table(run.energy_rows, run.energy_times),
             stats=stats,
             recorders=meta,
-            settings=described,
+            settings=self.described,
             completed=completed,
             message=message,
+            uplift=run.uplift.summary() if run.uplift is not None else {},
         )
         res.stats.update(
             energy_error=res.energy_error,
@@ -411,36 +484,38 @@ def solve_transient(
         )
         return res
 
-    def partial(message: str) -> TransientResult | None:
-        last = run.last if run.last is not None else state
+    def partial(self, start: hht.State, message: str) -> TransientResult | None:
+        """The result up to the last converged instant, or None if a recorder cannot finish."""
+        last = self.run.last if self.run.last is not None else start
         try:
-            run.record(last, None)  # the last converged instant (a sub-step, or a step a recorder skipped)
-            return result(False, message)
+            self.run.record(last, None)  # the last converged instant (a sub-step, or a step a recorder skipped)
+            return self.result(False, message)
         except Exception:  # noqa: BLE001 - a recorder that cannot finish (e.g. the one that raised): no partial result
             return None
 
-    try:
-        run.run(state, settings.max_halvings)
-    except _Failed as failed:
-        last = run.last if run.last is not None else state
-        names = _connector_names(system, failed.failure.rows)
-        halvings = (
-            f"with the step halved {settings.max_halvings} times, to {failed.t1 - failed.state.t:.3g} s"
-            if settings.max_halvings
-            else f"at the full step {failed.t1 - failed.state.t:.3g} s; step halving is off (max_halvings = 0)"
-        )
-        message = (
-            f"solve_transient: no convergence at t = {failed.t1:.6g} s ({failed.failure.reason} {halvings}); "
-            f"connectors still moving: {', '.join(names) or 'none'}; relative force residual "
-            f"{failed.failure.residual:.3g}; results kept up to t = {last.t:.6g} s"
-        )
-        raise TransientError(message, failed.t1, last.t, names, failed.failure.residual, partial(message)) from None
-    except Exception as exc:  # a law, a recorder or progress: keep what was computed, chain the cause
-        last = run.last if run.last is not None else state
-        at = max(run.attempt, last.t)
-        message = (
-            f"solve_transient: stopped at t = {at:.6g} s by {type(exc).__name__}: {exc}; "
-            f"results kept up to t = {last.t:.6g} s"
-        )
-        raise TransientError(message, at, last.t, (), float("nan"), partial(message)) from exc
-    return result(True, "")
+
+def _no_convergence(failed: _Failed, run: _Run, start: hht.State, report: _Report) -> TransientError:
+    last = run.last if run.last is not None else start
+    names = _connector_names(run.system, failed.failure.rows)
+    halvings = report.settings.max_halvings
+    how = (
+        f"with the step halved {halvings} times, to {failed.t1 - failed.state.t:.3g} s"
+        if halvings
+        else f"at the full step {failed.t1 - failed.state.t:.3g} s; step halving is off (max_halvings = 0)"
+    )
+    message = (
+        f"solve_transient: no convergence at t = {failed.t1:.6g} s ({failed.failure.reason} {how}); "
+        f"connectors still moving: {', '.join(names) or 'none'}; relative force residual "
+        f"{failed.failure.residual:.3g}; results kept up to t = {last.t:.6g} s"
+    )
+    return TransientError(message, failed.t1, last.t, names, failed.failure.residual, report.partial(start, message))
+
+
+def _stopped(exc: Exception, run: _Run, start: hht.State, report: _Report) -> TransientError:
+    last = run.last if run.last is not None else start
+    at = max(run.attempt, last.t)
+    message = (
+        f"solve_transient: stopped at t = {at:.6g} s by {type(exc).__name__}: {exc}; "
+        f"results kept up to t = {last.t:.6g} s"
+    )
+    return TransientError(message, at, last.t, (), float("nan"), report.partial(start, message))

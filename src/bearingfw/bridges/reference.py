@@ -18,7 +18,10 @@ Members and names (``k`` is the girder station, ``x = k * element_length``):
   ``j = 1..hangers_per_arch``);
 - bearings: connectors ``1A`` .. ``6B`` (:mod:`bearingfw.bridges.layout`) at the sliding
   surface, joined to the girder axis by rigid links ``L<bearing>`` (the soffit eccentricity plus
-  the bearing height), on the pillar tops (axes 2-5) or on supported abutment nodes (axes 1, 6).
+  the bearing height), on the pillar tops (axes 2-5) or on supported abutment nodes (axes 1, 6);
+  the sliding bearings' vertical springs are compression-only when
+  :attr:`~bearingfw.bridges.BridgeParameters.uplift` is set (the fixed bearing 4A, and any bearing
+  a preset fixes, is a JOIN, which cannot lift).
 
 Response elements (the paper's figure 17 is missing; these are the choices): ``S1`` is the
 girder-A element that starts at the middle of the arch span, ``S2`` the girder-B element there;
@@ -267,6 +270,6 @@ def bridge_model(
             guided = {"guided": spec.guided} if spec.kind is ConnectorKind.AXIAL else {}
             connectors.append(
                 Connector(bearing, seat, slide, spec.kind, law=law[0], law_params=dict(law[1]),
-                          vertical_stiffness=p.bearing_vertical_stiffness, **guided)
+                          vertical_stiffness=p.bearing_vertical_stiffness, uplift=p.uplift, **guided)
             )
     return Model(nodes, elements, connectors, rigid_links=links, supports=supports, masses=masses, name=name)

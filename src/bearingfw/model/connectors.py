@@ -26,20 +26,35 @@ step (dead load plus vertical dynamics) without a constraint force solve. Choose
 ``vertical_stiffness`` as the bearing's real vertical stiffness (pot bearings: some GN/m); it
 also enters the modal analysis.
 
+Uplift: with ``uplift=True`` (PLANAR and AXIAL) the vertical spring is compression-only. It
+then leaves the linear stiffness ``K`` and its row ``e_z`` becomes a governed row of ``B``,
+ruled by an internal law, :class:`CompressionOnlyGap`: ``F_z = kv d_z`` while the bearing is
+closed (``d_z <= 0``, the *total* ``d_z`` from the undeformed geometry, dead load included), zero
+when the gap is open (``d_z > 0``): no vertical stiffness and ``N = 0``, so no friction capacity.
+It closes again under compression. Its ``N = -kv d_z`` still comes from ``V`` (clamped at zero
+before a law sees it), which is exact whenever the gap is closed.
+
 A law is built with :func:`bearingfw.create_law` from its name and parameters; connectors
-that share (law, parameters, dims) share one law object (vectorised over them). If the law is
-``rigid`` its directions are tied like JOIN's. Tied directions become constraint equations
-(:mod:`bearingfw.model.constraints`), never penalty springs.
+that share (law, parameters, dims) share one law object (vectorised over them). A law class that
+declares ``per_bearing = True`` (:mod:`bearingfw.protocol`) gets one object for all its
+connectors of the same ``dims`` (and equal non-numeric parameters): parameters equal over them
+stay scalars, differing ones become arrays in connector order, so the kernel calls it once per
+Newton iteration however many bearings it governs. If the law is ``rigid`` its directions are
+tied like JOIN's. Tied directions become constraint equations (:mod:`bearingfw.model.constraints`),
+never penalty springs.
 
 Operators (full DOF numbering, ``n_dof`` columns):
 
 - ``D`` (3 per connector): every relative translation, row ``3 c + k`` = ``e_k . (u_j - u_i)``.
 - ``B`` (rows of ``D`` governed by non-rigid laws), grouped law by law: group ``g`` owns rows
   ``g.rows``, connector-major then direction, so ``(B u)[g.rows].reshape(n, dims)`` is the
-  ``u`` its law takes. Law forces assemble as ``B^T f`` and tangents as ``B^T K_t B``.
+  ``u`` its law takes. Law forces assemble as ``B^T f`` and tangents as ``B^T K_t B``. The
+  ``e_z`` rows of uplift connectors come last, in one group of the internal gap law
+  (``gap_rows``).
 - ``V`` (the ``e_z`` rows of connectors with a vertical spring): the vertical spring force is
   ``F_z = kv * (V u)``; the bearing's compressive normal force is ``N = -F_z = -kv * (V u)``
-  (compression positive: node ``j`` pressed down onto ``i``; :func:`normal_force`).
+  (compression positive: node ``j`` pressed down onto ``i``; :func:`normal_force`). Only the
+  springs without uplift enter ``K`` (:meth:`ConnectorOperators.spring_stiffness`).
 
 Sign of connector forces: ``F = R (force the connector exerts on node i)``, i.e. the force
 resisting ``d``; a linear spring gives ``F = +k d`` and the force on node ``j`` is ``-F``.
@@ -49,7 +64,7 @@ from __future__ import annotations
 
 import enum
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import Any, ClassVar
 
 import attrs
 import numpy as np
@@ -60,13 +75,14 @@ from bearingfw.model.dofs import DofMap
 from bearingfw.model.equations import Equation
 from bearingfw.parameters import ParameterError, parameter
 from bearingfw.plugins import Registry, UnknownLawError, create_law, describe_parameters, get_registry
-from bearingfw.protocol import BearingLaw, LawResponse
+from bearingfw.protocol import BearingLaw, LawResponse, law_flag
 
 __all__ = [
     "ConnectorKind",
     "Connector",
     "LawGroup",
     "ConnectorOperators",
+    "CompressionOnlyGap",
     "build_connector_operators",
     "connector_frame",
     "axes_from_rotation",
@@ -146,7 +162,9 @@ class Connector:
     PLANAR and AXIAL connectors; JOIN takes neither. ``vertical_stiffness`` (N/m) is required
     for PLANAR and AXIAL and not taken by JOIN. ``guided`` is the AXIAL connector's governed
     local direction, ``"x"`` (longitudinally guided, the default) or ``"y"``; other kinds take
-    none. ``z_axis`` must point up (module docstring).
+    none. ``z_axis`` must point up (module docstring). ``uplift=True`` (PLANAR and AXIAL) makes
+    the vertical spring compression-only: the bearing lifts off instead of pulling (module
+    docstring); the default False keeps the linear spring.
     """
 
     name: str = name_field()
@@ -161,6 +179,7 @@ class Connector:
     )
     x_axis: tuple[float, float, float] = vector3(default=(1.0, 0.0, 0.0), nonzero=True, doc="local x (longitudinal)")
     z_axis: tuple[float, float, float] = vector3(default=(0.0, 0.0, 1.0), nonzero=True, doc="local z (vertical)")
+    uplift: bool = attrs.field(default=False, metadata={"doc": "compression-only vertical spring (lift-off)"})
     _rotation: np.ndarray = attrs.field(init=False, repr=False, eq=False)
 
     def __attrs_post_init__(self):
@@ -179,7 +198,16 @@ class Connector:
             hash(self.law_params)
         except TypeError:
             raise ModelError(f"{me}: field 'law_params' must hold hashable values (numbers, strings)") from None
+        if not isinstance(self.uplift, (bool, np.bool_)):
+            raise ModelError(f"{me}: field 'uplift' must be True or False, got {self.uplift!r}")
+        object.__setattr__(self, "uplift", bool(self.uplift))
         if self.kind is ConnectorKind.JOIN:
+            if self.uplift:
+                raise ModelError(
+                    f"{me}: field 'uplift' applies to PLANAR and AXIAL connectors (their vertical spring can "
+                    "lift off); a JOIN connector ties the vertical direction, so it cannot lift: model a bearing "
+                    "that can lift as a PLANAR or AXIAL connector"
+                )
             if self.law is not None or self.law_params:
                 raise ModelError(f"{me}: field 'law' must be None for a JOIN connector (it ties every direction)")
             if self.vertical_stiffness is not None:
@@ -253,12 +281,26 @@ class Connector:
 
 @attrs.frozen(eq=False)
 class LawGroup:
-    """One law object and the connectors it governs (model order)."""
+    """One law object and the connectors it governs (model order).
+
+    ``velocity`` and ``coupling``: the law's protocol flags ``uses_velocity`` and
+    ``normal_coupling``; ``gap``: the internal compression-only gap law of uplift connectors
+    (its rows are the connectors' vertical ``e_z`` rows, not law directions).
+    """
 
     law: BearingLaw
     connectors: np.ndarray  # indices into Model.connectors
     rows: slice  # rows of B
     springs: np.ndarray  # rows of V (vertical springs) of these connectors, for N
+    velocity: bool = attrs.field(default=None)
+    coupling: bool = attrs.field(default=None)
+    gap: bool = False
+
+    def __attrs_post_init__(self):
+        if self.velocity is None:
+            object.__setattr__(self, "velocity", law_flag(self.law, "uses_velocity"))
+        if self.coupling is None:
+            object.__setattr__(self, "coupling", law_flag(self.law, "normal_coupling"))
 
     @property
     def n(self) -> int:
@@ -267,6 +309,32 @@ class LawGroup:
     @property
     def dims(self) -> int:
         return int(self.law.dims)
+
+
+@attrs.frozen(eq=False)
+class CompressionOnlyGap:
+    """The vertical spring of uplift connectors (module docstring), an internal law of the kernel.
+
+    ``u`` (n, 1) is the total vertical relative displacement ``d_z`` (zero at the undeformed
+    geometry); the force resisting it is ``kv d_z`` while closed (``d_z <= 0``) and zero when
+    open, the tangent ``kv`` or zero. It has no state: the gap is elastic.
+    """
+
+    name: ClassVar[str] = "compression-only gap"
+    rigid: ClassVar[bool] = False
+    dims: ClassVar[int] = 1
+    kv: np.ndarray  # (n,) vertical stiffness, N/m
+
+    def initial_state(self, n: int) -> None:
+        return None
+
+    def respond(self, state, u, normal_force, dt) -> LawResponse:
+        d = np.asarray(u, dtype=float)
+        kv = self.kv[:, None]
+        closed = d <= 0.0
+        force = np.where(closed, kv * d, 0.0)
+        tangent = np.where(closed, kv, 0.0)[:, :, None]
+        return LawResponse(force, tangent, state)
 
 
 def _make_law(name: str, params: dict, dims: int, registry: Registry, who: str) -> BearingLaw:
@@ -291,7 +359,11 @@ def _make_law(name: str, params: dict, dims: int, registry: Registry, who: str) 
 
 @attrs.frozen(eq=False)
 class ConnectorOperators:
-    """The sparse maps from global displacements to connector quantities (module docstring)."""
+    """The sparse maps from global displacements to connector quantities (module docstring).
+
+    ``uplift`` (bool per spring row): the compression-only springs, ruled by the gap group (the
+    last of ``groups`` when there is one) instead of entering ``K``.
+    """
 
     D: sp.csr_matrix
     B: sp.csr_matrix
@@ -302,6 +374,24 @@ class ConnectorOperators:
     ties: tuple[tuple[int, int], ...]  # (connector, local direction) pairs tied as constraints
     governed: tuple[tuple[int, int], ...]  # (connector, local direction) per row of B
     translations: np.ndarray  # (n, 2, 3): translation DOFs of node i and node j
+    uplift: np.ndarray = attrs.field(default=None)
+    #: whether any group's law uses the velocity, or declares dF/dN
+    any_velocity: bool = attrs.field(init=False)
+    any_coupling: bool = attrs.field(init=False)
+    #: the rows of B of the laws with dF/dN and the spring row (N) of each (:meth:`normal_derivatives`)
+    coupling_rows: np.ndarray = attrs.field(init=False)
+    coupling_springs: np.ndarray = attrs.field(init=False)
+
+    def __attrs_post_init__(self):
+        if self.uplift is None:
+            object.__setattr__(self, "uplift", np.zeros(self.kv.size, dtype=bool))
+        object.__setattr__(self, "any_velocity", any(g.velocity for g in self.groups))
+        object.__setattr__(self, "any_coupling", any(g.coupling for g in self.groups))
+        coupled = [g for g in self.groups if g.coupling]
+        rows = [np.arange(g.rows.start, g.rows.stop) for g in coupled]
+        springs = [np.repeat(g.springs, g.dims) for g in coupled]
+        object.__setattr__(self, "coupling_rows", np.concatenate(rows) if rows else np.zeros(0, dtype=int))
+        object.__setattr__(self, "coupling_springs", np.concatenate(springs) if springs else np.zeros(0, dtype=int))
 
     @property
     def n_connectors(self) -> int:
@@ -310,6 +400,17 @@ class ConnectorOperators:
     @property
     def n_governed(self) -> int:
         return self.B.shape[0]
+
+    @property
+    def gap_group(self) -> LawGroup | None:
+        """The group of the internal compression-only gap law (None without uplift connectors)."""
+        return self.groups[-1] if self.groups and self.groups[-1].gap else None
+
+    @property
+    def gap_rows(self) -> np.ndarray:
+        """Rows of ``B`` ruled by the gap law: the ``e_z`` rows of the uplift connectors."""
+        g = self.gap_group
+        return np.arange(g.rows.start, g.rows.stop) if g is not None else np.zeros(0, dtype=int)
 
     # ---- pure helpers over flat vectors ---------------------------------------------------
     def split(self, d: np.ndarray) -> list[np.ndarray]:
@@ -330,21 +431,33 @@ class ConnectorOperators:
         N_springs: np.ndarray,
         dt: float,
         reference: np.ndarray | None = None,
+        velocity: np.ndarray | None = None,
     ) -> list[LawResponse]:
         """Call every law at governed displacements ``d`` (flat) with normal forces per spring row.
 
         The laws see ``d - reference``: ``reference`` is the governed displacement at which
         their displacement is zero (``StaticResult.law_reference``; bearings set after the dead
         load), default zero. The protocol's ``normal_force`` is ``>= 0``: uplift (``N < 0``)
-        reaches the law as 0.
+        reaches the law as 0. ``velocity`` (flat, like ``d``): the trial velocities, given to the
+        laws that declare ``uses_velocity`` (zeros when None: static calls); the others never
+        receive the keyword.
         """
         contact = np.maximum(N_springs, 0.0)
         if reference is not None:
             d = d - reference
-        return [
-            g.law.respond(state, u, contact[g.springs], dt)
-            for g, state, u in zip(self.groups, states, self.split(d), strict=True)
-        ]
+        if not self.any_velocity:
+            return [
+                g.law.respond(state, u, contact[g.springs], dt)
+                for g, state, u in zip(self.groups, states, self.split(d), strict=True)
+            ]
+        out = []
+        for g, state, u in zip(self.groups, states, self.split(d), strict=True):
+            if g.velocity:
+                v = np.zeros_like(u) if velocity is None else velocity[g.rows].reshape(g.n, g.dims)
+                out.append(g.law.respond(state, u, contact[g.springs], dt, velocity=v))
+            else:
+                out.append(g.law.respond(state, u, contact[g.springs], dt))
+        return out
 
     def forces(self, responses: Sequence[LawResponse]) -> np.ndarray:
         """Flat law forces aligned with the rows of ``B`` (assemble with ``B.T @ f``)."""
@@ -352,24 +465,58 @@ class ConnectorOperators:
             return np.zeros(0)
         return np.concatenate([np.asarray(r.force, dtype=float).reshape(-1) for r in responses])
 
-    def tangent(self, responses: Sequence[LawResponse]) -> sp.csr_matrix:
-        """Block-diagonal law tangent (n_governed x n_governed); assemble with ``B.T @ Kt @ B``."""
-        rows, cols, vals = [], [], []
+    def tangent_blocks(self, responses: Sequence[LawResponse], rate: float = 0.0) -> list[np.ndarray]:
+        """The laws' tangents per group, ``(n, dims, dims)``: ``tangent``, plus ``rate`` times
+        ``dforce_dvelocity`` for laws that use the velocity (``rate = dv/du`` of the integrator,
+        ``gamma / (beta h)`` for HHT; 0 in static analyses)."""
+        blocks = []
         for g, r in zip(self.groups, responses, strict=True):
+            t = np.asarray(r.tangent, dtype=float)
+            if g.velocity and rate and r.dforce_dvelocity is not None:
+                t = t + rate * np.asarray(r.dforce_dvelocity, dtype=float)
+            blocks.append(t)
+        return blocks
+
+    def tangent(self, responses: Sequence[LawResponse], rate: float = 0.0) -> sp.csr_matrix:
+        """Block-diagonal law tangent (n_governed x n_governed); assemble with ``B.T @ Kt @ B``
+        (``rate``: :meth:`tangent_blocks`)."""
+        rows, cols, vals = [], [], []
+        for g, t in zip(self.groups, self.tangent_blocks(responses, rate), strict=True):
             n, m = g.n, g.dims
             base = g.rows.start + m * np.arange(n)
             idx = base[:, None] + np.arange(m)[None, :]
             rows.append(np.repeat(idx, m, axis=1).reshape(-1))
             cols.append(np.tile(idx, (1, m)).reshape(-1))
-            vals.append(np.asarray(r.tangent, dtype=float).reshape(-1))
+            vals.append(t.reshape(-1))
         if not rows:
             return sp.csr_matrix((0, 0))
         k = self.n_governed
         return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(k, k))
 
+    def normal_derivatives(
+        self, responses: Sequence[LawResponse], N_springs: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``d f / d N`` of the laws that declare ``normal_coupling``, as triplets ``(rows of B,
+        spring rows, values)`` (the rows and springs are :attr:`coupling_rows` and
+        :attr:`coupling_springs`): zero where ``N <= 0``, where the kernel's clamp ``max(N, 0)``
+        holds the law's normal force at zero, and for a response without ``dforce_dnormal``."""
+        values = [
+            np.zeros(g.n * g.dims) if r.dforce_dnormal is None else np.asarray(r.dforce_dnormal, dtype=float).reshape(-1)
+            for g, r in zip(self.groups, responses, strict=True)
+            if g.coupling
+        ]
+        if not values:
+            return self.coupling_rows, self.coupling_springs, np.zeros(0)
+        values = values[0] if len(values) == 1 else np.concatenate(values)
+        return self.coupling_rows, self.coupling_springs, values * (np.asarray(N_springs)[self.coupling_springs] > 0.0)
+
     def spring_stiffness(self) -> sp.csr_matrix:
-        """``V^T diag(kv) V``: the vertical springs' stiffness in full DOFs."""
-        return (self.V.T @ sp.diags(self.kv) @ self.V).tocsr()
+        """``V^T diag(kv) V`` of the linear vertical springs (uplift springs excluded), full DOFs."""
+        if not self.uplift.any():
+            return (self.V.T @ sp.diags(self.kv) @ self.V).tocsr()
+        keep = np.flatnonzero(~self.uplift)
+        V = self.V[keep]
+        return (V.T @ sp.diags(self.kv[keep]) @ V).tocsr()
 
     def tie_equations(self) -> list[Equation]:
         eqs = []
@@ -380,6 +527,70 @@ class ConnectorOperators:
             i_side, j_side = (tuple(int(d) for d in self.translations[c, s]) for s in (0, 1))
             eqs.append(Equation(dofs, coeffs, "connector", c, k, (j_side, i_side)))
         return eqs
+
+
+def _group_key(con: Connector, registry: Registry) -> tuple:
+    """Connectors with equal keys are governed by one law object: ``(law, params, dims)``, or
+    ``(law, dims)`` for a law class that declares ``per_bearing`` (module docstring)."""
+    try:
+        cls = registry.law_class(con.law)
+    except UnknownLawError:
+        return con.law_key  # reported when the law is made
+    if law_flag(cls, "per_bearing") and attrs.has(cls):
+        return ("per-bearing", con.law, con.dims)
+    return con.law_key
+
+
+def _field_alias(field: attrs.Attribute) -> str:
+    return getattr(field, "alias", None) or field.name.lstrip("_")
+
+
+def _per_bearing_laws(
+    name: str, dims: int, members: list[int], connectors, registry: Registry
+) -> list[tuple[BearingLaw, list[int]]]:
+    """One law object per set of equal non-numeric parameters of a per-bearing law's connectors,
+    its numeric parameters arrays in connector order where they differ (module docstring)."""
+    made: dict[tuple, BearingLaw] = {}
+    for c in members:
+        key = connectors[c].law_key
+        if key not in made:
+            made[key] = _make_law(name, dict(key[1]), dims, registry, f"connector {connectors[c].name!r}")
+    first = made[connectors[members[0]].law_key]
+    fields = [f for f in attrs.fields(type(first)) if f.init]
+    numeric = [f for f in fields if f.metadata.get("per_bearing")]
+    others = [f for f in fields if not f.metadata.get("per_bearing")]
+    subsets: dict[tuple, list[int]] = {}
+    for c in members:
+        law = made[connectors[c].law_key]
+        try:
+            key = tuple(getattr(law, f.name) for f in others)
+            hash(key)
+        except TypeError:  # an unhashable non-numeric parameter: one object per parameter set
+            key = connectors[c].law_key
+        subsets.setdefault(key, []).append(c)
+    out = []
+    for subset in subsets.values():
+        laws = [made[connectors[c].law_key] for c in subset]
+        base = laws[0]
+        changes = {}
+        for f in numeric:
+            values = [getattr(law, f.name) for law in laws]
+            for c, v in zip(subset, values, strict=True):
+                if isinstance(v, np.ndarray):
+                    raise ModelError(
+                        f"connector {connectors[c].name!r}: field 'law_params': parameter {f.name!r} of law {name!r} "
+                        "must be one number per connector (the kernel gathers the connectors' values into an array)"
+                    )
+            if any(v != values[0] for v in values[1:]):
+                changes[_field_alias(f)] = np.array(values, dtype=float)
+        if changes:
+            try:
+                base = attrs.evolve(base, **changes)
+            except ParameterError as exc:
+                who = ", ".join(repr(connectors[c].name) for c in subset)
+                raise ModelError(f"connector {who}: field 'law_params': {exc}") from exc
+        out.append((base, subset))
+    return out
 
 
 def build_connector_operators(model, dofmap: DofMap, registry: Registry | None = None) -> ConnectorOperators:
@@ -403,32 +614,46 @@ def build_connector_operators(model, dofmap: DofMap, registry: Registry | None =
     springs = [c for c, con in enumerate(connectors) if con.kind is not ConnectorKind.JOIN]
     spring_row = {c: r for r, c in enumerate(springs)}
     kv = np.array([connectors[c].vertical_stiffness for c in springs], dtype=float)
+    uplift = np.array([connectors[c].uplift for c in springs], dtype=bool)
     V = D[[3 * c + 2 for c in springs], :] if springs else sp.csr_matrix((0, dofmap.n_dof))
 
     ties = [(c, k) for c, con in enumerate(connectors) for k in con.tied_directions]
-    # Group the law connectors by (law, params, dims), in order of first appearance.
+    registry = registry or get_registry()
+    # Group the law connectors by (law, params, dims) (per-bearing laws: by (law, dims)), in
+    # order of first appearance.
     by_key: dict[tuple, list[int]] = {}
     for c, con in enumerate(connectors):
         if con.dims:
-            by_key.setdefault(con.law_key, []).append(c)
-    registry = registry or get_registry()
+            by_key.setdefault(_group_key(con, registry), []).append(c)
     groups, governed = [], []
-    for (name, params, dims), members in by_key.items():
-        who = "connector " + ", ".join(repr(connectors[c].name) for c in members)
-        law = _make_law(name, dict(params), dims, registry, who)
-        if law.rigid:
-            ties.extend((c, k) for c in members for k in connectors[c].law_directions)
-            continue
+
+    def add_group(law, members: list[int], directions, gap: bool = False) -> None:
         start = len(governed)
-        governed.extend((c, k) for c in members for k in connectors[c].law_directions)
-        groups.append(
-            LawGroup(
-                law,
-                np.array(members),
-                slice(start, len(governed)),
-                np.array([spring_row[c] for c in members], dtype=int),
-            )
-        )
+        governed.extend((c, k) for c in members for k in directions(c))
+        springs_of = np.array([spring_row[c] for c in members], dtype=int)
+        if gap:
+            groups.append(LawGroup(law, np.array(members), slice(start, len(governed)), springs_of, False, False, True))
+        else:
+            groups.append(LawGroup(law, np.array(members), slice(start, len(governed)), springs_of))
+
+    for key, members in by_key.items():
+        if key[0] == "per-bearing":
+            _, name, dims = key
+            laws = _per_bearing_laws(name, dims, members, connectors, registry)
+        else:
+            name, params, dims = key
+            who = "connector " + ", ".join(repr(connectors[c].name) for c in members)
+            laws = [(_make_law(name, dict(params), dims, registry, who), members)]
+        for law, subset in laws:
+            if law.rigid:
+                ties.extend((c, k) for c in subset for k in connectors[c].law_directions)
+                continue
+            add_group(law, subset, lambda c: connectors[c].law_directions)
+    lifting = [c for c in springs if connectors[c].uplift]
+    if lifting:
+        gap_kv = np.array([connectors[c].vertical_stiffness for c in lifting], dtype=float)
+        gap_kv.setflags(write=False)
+        add_group(CompressionOnlyGap(gap_kv), lifting, lambda c: (2,), gap=True)
     B = D[[3 * c + k for c, k in governed], :] if governed else sp.csr_matrix((0, dofmap.n_dof))
     return ConnectorOperators(
         D=D.tocsr(),
@@ -440,4 +665,5 @@ def build_connector_operators(model, dofmap: DofMap, registry: Registry | None =
         ties=tuple(ties),
         governed=tuple(governed),
         translations=translations,
+        uplift=uplift,
     )

@@ -13,8 +13,9 @@ from bearingfw.plugins.hookspecs import hookimpl
 @hookimpl
 def bearingfw_register_metrics():
     from bearingfw.experiment.metrics import BUILTIN
+    from bearingfw.experiment.uplift import UPLIFT_FAMILIES
 
-    return list(BUILTIN)
+    return [*BUILTIN, *UPLIFT_FAMILIES]
 
 
 @hookimpl

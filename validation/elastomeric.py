@@ -47,6 +47,7 @@ import sys
 import time
 from dataclasses import dataclass
 from functools import cached_property
+import importlib.util
 from pathlib import Path
 
 import attrs
@@ -57,10 +58,22 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _multispan  # noqa: E402
 import _opensees  # noqa: E402
 import _translate  # noqa: E402
-import models  # noqa: E402
 from _reference import proportional_path, random_path, relative_difference  # noqa: E402
 
 import bearingfw  # noqa: E402
+
+
+def _sibling(name: str):
+    """This folder's ``name``.py by path: a plain ``import models`` could find another ``models``
+    module first (the test suite has one) when this script runs inside pytest."""
+    spec = importlib.util.spec_from_file_location(f"_validation_{name}", Path(__file__).resolve().parent / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # dataclasses/attrs look the module up while it executes
+    spec.loader.exec_module(module)
+    return module
+
+
+models = _sibling("models")
 from bearingfw.analysis import gravity  # noqa: E402
 from bearingfw.model import Connector, Model  # noqa: E402
 

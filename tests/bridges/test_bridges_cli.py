@@ -35,7 +35,7 @@ def test_modal_table_and_model_choice(capsys):
     code, out, _ = run(capsys, "modal", "--model", "M1", "--ks", "4e8", "--modes", "6")
     assert code == 0 and "bearing model M1" in out and "vertical 1" in out
     code, _, err = run(capsys, "modal", "--model", "M9")
-    assert code == 1 and "--model must be one of" in err
+    assert code == 2 and "--model must be one of" in err
 
 
 def test_modal_plot_writes_shapes_and_the_mac_heatmap(capsys, tmp_path):
@@ -99,4 +99,4 @@ def test_modal_structure_reference_is_the_model_option(capsys):
 )
 def test_modal_reference_option_errors(capsys, argv, message):
     code, _, err = run(capsys, "modal", *argv)
-    assert code == 1 and message in err and "Traceback" not in err
+    assert code == 2 and message in err and "Traceback" not in err

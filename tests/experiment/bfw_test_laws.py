@@ -5,6 +5,14 @@
   the first time step fails.
 - ``test-slow-spring``: a linear spring that sleeps ``delay`` seconds in every call, so that a cell
   takes long enough for a test to kill the run in the middle.
+- ``test-blocking-spring``: a linear spring whose ``respond`` never returns once it is displaced (a
+  stuck plugin): the run's check works, the first time step hangs; for interrupts and time limits.
+- ``test-deaf-spring``: like ``test-blocking-spring``, but it first blocks SIGALRM in its thread, as
+  a law stuck in compiled code would not hear it: only the run ending its worker process stops it.
+- ``test-noisy-spring``: a linear spring whose every call overflows a throw-away number (a numpy
+  RuntimeWarning), for the warnings a cell reports.
+- ``test-mutating-spring``: a linear spring that writes into the state it is given (an impure
+  law): its force comes out right only the first time a state is used.
 """
 
 from __future__ import annotations
@@ -60,6 +68,77 @@ class SlowSpring:
         return LawResponse(response.force, response.tangent, state)
 
 
+@attrs.frozen
+class BlockingSpring:
+    name: ClassVar[str] = "test-blocking-spring"
+    rigid: ClassVar[bool] = False
+    k: float = parameter(low=0.0, low_open=True, unit="N/m", default=4e8)
+    dims: int = dims_parameter()
+
+    def initial_state(self, n: int) -> dict:
+        return {}
+
+    def respond(self, state, u, normal_force, dt) -> LawResponse:
+        while np.any(np.abs(np.asarray(u)) > 1e-12):
+            time.sleep(1.0)  # stuck for good, in short sleeps (a signal gets through between them)
+        response = _spring(self.k, u, self.dims)
+        return LawResponse(response.force, response.tangent, state)
+
+
+@attrs.frozen
+class DeafSpring:
+    name: ClassVar[str] = "test-deaf-spring"
+    rigid: ClassVar[bool] = False
+    k: float = parameter(low=0.0, low_open=True, unit="N/m", default=4e8)
+    dims: int = dims_parameter()
+
+    def initial_state(self, n: int) -> dict:
+        return {}
+
+    def respond(self, state, u, normal_force, dt) -> LawResponse:
+        if np.any(np.abs(np.asarray(u)) > 1e-12):
+            import signal
+
+            signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGALRM})
+            while True:
+                time.sleep(1.0)
+        response = _spring(self.k, u, self.dims)
+        return LawResponse(response.force, response.tangent, state)
+
+
+@attrs.frozen
+class MutatingSpring:
+    name: ClassVar[str] = "test-mutating-spring"
+    rigid: ClassVar[bool] = False
+    k: float = parameter(low=0.0, low_open=True, unit="N/m", default=4e8)
+    dims: int = dims_parameter()
+
+    def initial_state(self, n: int) -> dict:
+        return {"calls": np.zeros(n)}
+
+    def respond(self, state, u, normal_force, dt) -> LawResponse:
+        state["calls"] += 1.0  # the bug: the committed state is changed in place
+        scale = 1.0 + state["calls"][:, None]
+        response = _spring(self.k, u, self.dims)
+        return LawResponse(response.force * scale, response.tangent, {"calls": state["calls"].copy()})
+
+
+@attrs.frozen
+class NoisySpring:
+    name: ClassVar[str] = "test-noisy-spring"
+    rigid: ClassVar[bool] = False
+    k: float = parameter(low=0.0, low_open=True, unit="N/m", default=4e8)
+    dims: int = dims_parameter()
+
+    def initial_state(self, n: int) -> dict:
+        return {}
+
+    def respond(self, state, u, normal_force, dt) -> LawResponse:
+        np.exp(np.full(1, 1000.0))  # overflows: RuntimeWarning, result unused
+        response = _spring(self.k, u, self.dims)
+        return LawResponse(response.force, response.tangent, state)
+
+
 @bearingfw.hookimpl
 def bearingfw_register_laws():
-    return [ExplodingSpring, SlowSpring]
+    return [ExplodingSpring, SlowSpring, BlockingSpring, DeafSpring, MutatingSpring, NoisySpring]

@@ -86,3 +86,19 @@ def test_a_directory_in_use_exits_2_naming_the_holder(capsys, tmp_path):
         code, _, stderr = run(capsys, str(spec), "--out", str(out), "--executor", "serial")
     assert code == 2
     assert stderr.startswith(f"bearingfw run: error: {out} is in use by another bearingfw run (pid {os.getpid()} ")
+
+
+def test_json_into_a_closed_pipe_ends_quietly(tmp_path):
+    """``bearingfw run ... --json | head``: the reader leaves before the summary is printed."""
+    import subprocess
+    import sys
+
+    spec = write_tiny(tmp_path / "spec", models=("M1",), levels=("D_0",))
+    process = subprocess.Popen(
+        [sys.executable, "-m", "bearingfw", "run", str(spec), "--out", str(tmp_path / "out"), "--executor", "serial",
+         "--quiet", "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+    )
+    process.stdout.close()  # the reader is gone before anything is written
+    _, stderr = process.communicate(timeout=300)
+    assert process.returncode == 141, stderr.decode()
+    assert b"Traceback" not in stderr and b"BrokenPipe" not in stderr and stderr == b""

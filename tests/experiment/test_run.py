@@ -6,6 +6,7 @@ import csv
 import json
 import math
 
+import numpy as np
 import pytest
 from tiny_experiment import write_tiny
 
@@ -151,6 +152,57 @@ def test_figures_exist_and_are_not_empty(first):
         for suffix in ("png", "svg"):
             assert (figures / f"{stem}.{suffix}").stat().st_size > 5000, stem
     assert len(summary.files["figures"]) == 2 * len(stems)
+
+
+def _svg_texts(path) -> list[str]:
+    """The texts of a matplotlib SVG (it draws text as paths, each preceded by a comment with the text)."""
+    import re
+
+    return re.findall(r"<!-- (.*?) -->", path.read_text(), flags=re.DOTALL)
+
+
+def _png(path):
+    import matplotlib.image
+
+    return matplotlib.image.imread(path)[..., :3]
+
+
+def _pixels_near(image, colour: str, tolerance: float = 0.08) -> int:
+    from matplotlib.colors import to_rgb
+
+    return int((np.abs(image - np.array(to_rgb(colour))).max(axis=-1) < tolerance).sum())
+
+
+def test_figures_show_what_they_claim(first):
+    """Content, not size: the heatmaps print the matrices' own values and ratios, every history figure has
+    a legend entry and a drawn line (its colour in the PNG) for each model, and no PNG is blank."""
+    _, out, _ = first
+    figures = out / "figures"
+    matrices, ratios = _json(out / "matrices.json"), _json(out / "ratios.json")
+    texts = _svg_texts(figures / "heatmap_stress.G4.svg")
+    assert "stress.G4 [MPa], ratio to M1" in texts and set(MODELS) <= set(texts) and set(LEVELS) <= set(texts)
+    for model in MODELS:
+        for level in LEVELS:
+            assert f"{matrices['stress.G4'][model][level] * 1e-6:.3g}" in texts, (model, level)
+            assert f"×{ratios['stress.G4'][model][level]:.2f}" in texts, (model, level)
+    for level in LEVELS:
+        stress = _svg_texts(figures / f"stress_tremor_{level}.svg")
+        assert [t for t in stress if t in MODELS] == list(MODELS)  # the legend: each model once
+        assert {"G2: total", "G4: total", "G4: ground motion's part", "time [s]"} <= set(stress)
+        image = _png(figures / f"stress_tremor_{level}.png")
+        assert image.shape[0] > 300 and image.shape[1] > 600
+        for k in range(len(MODELS)):  # a line of each model's colour is drawn
+            assert _pixels_near(image, f"C{k}") > 100, (level, MODELS[k])
+        force = _svg_texts(figures / f"bearing-force_1B_tremor_{level}.svg")
+        assert [t for t in force if t in MODELS] == ["M1", "M2"]  # [figures] compare of the tiny experiment
+        friction = _svg_texts(figures / f"friction-ratio_1B_tremor_{level}.svg")
+        assert "M2" in friction and any(t.startswith("mu = ") and t.endswith("(M2)") for t in friction)  # M2 has a mu
+        for model in MODELS:
+            hysteresis = _svg_texts(figures / f"hysteresis_{model}_tremor_{level}.svg")
+            assert "1B" in hysteresis and any(t.startswith("force against displacement") for t in hysteresis)
+    for png in figures.glob("*.png"):
+        image = _png(png)
+        assert (image.min(axis=-1) < 0.9).mean() > 0.01, png.name  # not blank: ink on more than 1 %
 
 
 def test_report_has_every_section(first):

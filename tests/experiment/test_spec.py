@@ -137,8 +137,9 @@ def test_what_needs_the_plugins_or_the_users_code_is_checked_before_running(tmp_
     assert message.startswith("models.M2.params: linear-spring: unknown parameter(s) 'c'; parameters of linear-spring: k")
     message = checked(BASE + "[intensities]\nscale = 'no-such-scale'\n")
     assert message.startswith("intensities.scale: unknown intensity scale 'no-such-scale'; known scales: usb-pga-h10")
-    assert "structure.options: structure 'reference': BridgeParameters: parameter 'element_length' = 99.0 is " \
-           "outside" in checked(BASE + "[structure]\noptions = { element_length = 99.0 }\n")
+    # the option that is out of range is named first (structures.py's message)
+    assert "structure.options: option element_length = 99.0: structure 'reference': BridgeParameters: parameter " \
+           "'element_length' = 99.0 is outside" in checked(BASE + "[structure]\noptions = { element_length = 99.0 }\n")
     assert "structure.options: structure 'reference': unknown option 'spam' (did you mean spans?)" in checked(
         BASE + "[structure]\noptions = { spam = 1 }\n")
     assert "structure.builder: structure 'no_such_module_xyz:build': module 'no_such_module_xyz' not found" in checked(
@@ -187,3 +188,17 @@ def test_intensities_of_every_kind_resolve_to_scale_targets_in_order():
     t1 = parse_experiment(BASE + "[intensities]\nsa = [2.0]\nperiod = 'T1'\n").intensities
     assert t1.needs_first_period and t1.resolve()[0].target.period is None
     assert t1.resolve(0.8)[0].target.period == 0.8 and t1.resolve(0.8)[0].name == "sa=2@T1"
+
+
+def test_a_file_that_is_not_utf8_gets_a_clear_error_naming_the_path_and_offset(tmp_path, capsys):
+    from bearingfw.cli.main import main
+
+    path = tmp_path / "latin1.toml"
+    path.write_bytes('name = "x"\n# Widerstandsmoment f\u00fcr Tr\u00e4ger\n'.encode("latin-1"))
+    with pytest.raises(SpecError) as caught:
+        load_experiment(path)
+    assert str(caught.value) == (f"{path}: not UTF-8 text (TOML files are UTF-8): byte 0xfc at byte offset 32 "
+                                 "(line 2) cannot be decoded; save the file as UTF-8")
+    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and "byte offset 32 (line 2)" in err and not (tmp_path / "out").exists()

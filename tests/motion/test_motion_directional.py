@@ -207,10 +207,10 @@ def test_record_info_with_mapped_components(capsys):
 
 def test_record_info_refuses_a_vertical_on_x(capsys):
     code, _, err = run(capsys, "record", "info", "--x", str(UD))
-    assert code == 1 and str(UD) in err and "looks vertical" in err and "ends in 'UD'" in err
+    assert code == 2 and str(UD) in err and "looks vertical" in err and "ends in 'UD'" in err
     code, _, _ = run(capsys, "record", "info", "--x", str(UD), "--vertical-as-horizontal", "--json")
     assert code == 0
     code, _, err = run(capsys, "record", "info", str(EW), "--x", str(NS))
-    assert code == 1 and "not several" in err
+    assert code == 2 and "not several" in err
     code, _, err = run(capsys, "record", "info", "--synthetic", "1", "--vertical-as-horizontal")
-    assert code == 1 and "--vertical-as-horizontal goes with --x/--y/--z" in err
+    assert code == 2 and "--vertical-as-horizontal goes with --x/--y/--z" in err

@@ -69,7 +69,7 @@ def test_oma_criteria_options_reach_the_selection(capsys, chain_file):
     crit = json.loads(out)["criteria"]
     assert (crit["min_presence"], crit["min_mpc"], crit["min_peak"]) == (0.5, 0.9, 3.0)
     code, _, err = run(capsys, "oma", chain_file, "--min-mpc", "1.5")
-    assert code == 1 and "min_mpc" in err
+    assert code == 2 and "min_mpc" in err
 
 
 def test_the_help_states_the_library_defaults():
@@ -106,7 +106,7 @@ def test_oma_decay_of_a_record_cut_during_the_decay_is_refused(capsys, tmp_path)
     record = Channels(jumping_test(duration=25.0)[:, None], DT, ("GA32.uz",), source="jumping test")
     path = record.to_csv(tmp_path / "cut.csv")
     code, _, err = run(capsys, "oma", path, "--decay", "1.5")
-    assert code == 1 and "no channel gives a decay" in err and "filter time constants" in err
+    assert code == 2 and "no channel gives a decay" in err and "filter time constants" in err
 
 
 @pytest.mark.parametrize("value", ["1.5,x", "0", "-1.5", ""])
@@ -129,7 +129,7 @@ def test_oma_decay_frequencies_are_checked(capsys, value):
 )
 def test_oma_errors_are_named(capsys, chain_file, argv, message):
     code, _, err = run(capsys, *[a.replace("{chain}", str(chain_file)) for a in argv])
-    assert code == 1 and message in err
+    assert code == 2 and message in err
 
 
 def test_oma_is_a_command_with_help():
@@ -151,7 +151,7 @@ def test_oma_is_a_command_with_help():
 )
 def test_tune_measured_errors_are_named(capsys, tmp_path, argv, message):
     code, _, err = run(capsys, *argv)
-    assert code == 1 and message in err
+    assert code == 2 and message in err
 
 
 def test_tune_help_states_the_least_mac():

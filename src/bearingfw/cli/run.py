@@ -9,9 +9,12 @@ import textwrap
 
 from bearingfw.parameters import ParameterError
 
-#: Exit codes: every cell finished; a cell failed (the rest completed); the experiment could not
-#: run (a bad file or option); interrupted (128 + SIGINT).
-OK, CELLS_FAILED, ERROR, INTERRUPTED = 0, 1, 2, 130
+#: Exit codes (the convention of every command, :mod:`bearingfw.cli.main`): every cell finished and
+#: passed its checks; a cell failed or is suspect (the rest completed); the experiment could not run
+#: for bad input (a bad file or option, a directory in use or holding another experiment); the
+#: environment refused (an executor that cannot be reached, an output that cannot be written:
+#: main turns an OSError into 2 or 3 naming the path); interrupted (128 + SIGINT).
+OK, CELLS_FAILED, ERROR, ENVIRONMENT, INTERRUPTED = 0, 1, 2, 3, 130
 
 
 def add_parser(subparsers) -> None:
@@ -28,9 +31,10 @@ def add_parser(subparsers) -> None:
             "which one run at a time writes into (a lock) and which belongs to one experiment (see --take-over).",
             width=88,
         ),
-        epilog="exit status: 0 no cell failed, 1 some cell failed (the others completed; see report.md), "
-        "2 the experiment could not run (a bad file or option, or DIR is in use by another run or holds another "
-        "experiment), 130 interrupted\n\n"
+        epilog="exit status: 0 every cell finished and passed its acceptance checks, 1 some cell failed or is "
+        "suspect (the others completed; see report.md), 2 the experiment could not run (a bad file or option, or "
+        "DIR is in use by another run or holds another experiment), 3 the environment refused (an executor that "
+        "cannot be reached, an output that cannot be written), 130 interrupted\n\n"
         "examples:\n"
         "  bearingfw run                                  the paper's study into bearingfw-results/paper-study\n"
         "  bearingfw run --print-default > my.toml        a starting point for your own experiment\n"
@@ -149,6 +153,11 @@ def _print_results(summary, out) -> None:
         print(f"\n{len(summary.failed)} cell(s) failed:", file=out)
         for cell, error in summary.failed:
             print(f"  {cell}: {error}", file=out)
+    if summary.suspect:
+        print(f"\n{len(summary.suspect)} cell(s) SUSPECT (ran, but failed an acceptance check; left out of the "
+              "matrices):", file=out)
+        for cell, reasons in summary.suspect:
+            print(f"  {cell}: {reasons}", file=out)
     print(f"\nresults: {summary.out} (matrices.json, matrices/, figures/, report.md)", file=out)
 
 
@@ -156,6 +165,7 @@ def run(args) -> int:
     from bearingfw.experiment import (
         DEFAULT_TOML,
         ExecutorError,
+        ExecutorUnavailable,
         Progress,
         StoreError,
         make_executor,
@@ -179,7 +189,10 @@ def run(args) -> int:
     except KeyboardInterrupt:
         print("\nbearingfw run: interrupted; finished cells are kept, run again to continue", file=sys.stderr)
         return INTERRUPTED
-    except (ParameterError, ExecutorError, StoreError, OSError) as exc:
+    except ExecutorUnavailable as exc:
+        print(f"bearingfw run: error: {exc}", file=sys.stderr)
+        return ENVIRONMENT
+    except (ParameterError, ExecutorError, StoreError) as exc:
         print(f"bearingfw run: error: {exc}", file=sys.stderr)
         return ERROR
     if not args.quiet:

@@ -4,11 +4,14 @@ A cell's *inputs* are what its physics depends on, as plain data: the structure 
 options, recorded elements and nodes), the bearing model, the record (the files' contents, not
 their paths; or the synthetic tremor's seed and parameters), the intensity (its name and scale
 target: a level's PGA_H10, a PGA or Sa value with its period; the scale a level is checked on),
-the integration settings, the Rayleigh coefficients, and the code
+the integration settings, the Rayleigh coefficients, the acceptance tolerances of ``[run]``
+(they decide whether the cell is ``ok`` or ``suspect``), and the code
 (:func:`bearingfw.experiment.structure.code_inputs`: bearingfw's version, the versions of the
 distributions of the laws this cell's model uses, of its record's readers, of the intensity
-scale and of the metric families, and the source files of the experiment's own builder and plugin modules with the modules
-they import from the experiment's folders). The *digest* is the SHA-256 of their canonical JSON.
+scale and of the metric families; a digest of the source of bearingfw and of those distributions'
+packages, so that an edit in a development checkout counts; and the source files of the
+experiment's own builder and plugin modules with the modules they import from the experiment's
+folders). The *digest* is the SHA-256 of their canonical JSON.
 The results store keeps a finished cell with its digest: a rerun skips it while the digest is
 unchanged and recomputes it otherwise. Names (the model's, the record's) are not inputs: they
 only place the files.
@@ -29,6 +32,7 @@ from collections.abc import Mapping
 
 import attrs
 
+from bearingfw.experiment.acceptance import acceptance_tolerances
 from bearingfw.experiment.records import record_inputs, record_readers
 from bearingfw.experiment.spec import Experiment, Intensity
 from bearingfw.experiment.structure import (
@@ -99,6 +103,8 @@ def plan_cells(
         "integration": attrs.asdict(experiment.integration),
         "damping": {"alpha": rayleigh.alpha, "beta": rayleigh.beta},
         "plugins": list(experiment.plugins),
+        # what decides a cell's status (ok or suspect), not its physics: changing it judges the cells again
+        "acceptance": acceptance_tolerances(experiment.run),
     }
     records = {r.name: (record_inputs(experiment, r), record_readers(experiment, r, registry))
                for r in experiment.records}

@@ -4,24 +4,34 @@
 (:class:`~bearingfw.analysis.TransientError`), a law that raises, a record that cannot be read or
 scaled, anything, becomes an outcome with status ``failed``, its error and traceback, so that
 the rest of the matrix completes. (``KeyboardInterrupt`` and ``SystemExit`` still stop it: an
-interrupted cell is not a result.) :func:`compute_and_store` is what a worker process runs: it
+interrupted cell is not a result.) Before the analysis, the laws' purity is checked
+(:mod:`~bearingfw.experiment.purity`); after it, the result passes the acceptance checks
+(:mod:`~bearingfw.experiment.acceptance`) or is stored as ``suspect``. A cell running longer than
+``[run] cell_timeout`` is ended and fails (:func:`time_limit`); warnings it raises are kept in its
+document (``warnings``, each once with its count), not printed. :func:`compute_and_store` is what a worker process runs: it
 also commits the cell to the results store itself, so that a finished cell survives the death of
 the process that started the run.
 """
 
 from __future__ import annotations
 
+import contextlib
 import datetime
 import os
 import platform
+import signal
+import threading
 import time
 import traceback
+import warnings
 
 import attrs
 
 from bearingfw.analysis import Rayleigh, TransientError, gravity, solve_transient
+from bearingfw.experiment.acceptance import SUSPECT, accept_cell
 from bearingfw.experiment.cells import CellJob, recording
 from bearingfw.experiment.metrics import MIN_NORMAL_FRACTION, metric_families, recorders, reduce_result
+from bearingfw.experiment.purity import LawPurityError, law_purity_problems
 from bearingfw.experiment.records import ground_acceleration, load_record, scaled_record
 from bearingfw.experiment.store import Store, thinned
 from bearingfw.experiment.structure import (
@@ -34,7 +44,10 @@ from bearingfw.experiment.structure import (
 from bearingfw.model import as_system
 from bearingfw.motion import get_scale, record_degree, record_pga_h10, record_t_ha
 
-__all__ = ["CellOutcome", "CellSummary", "compute_and_store", "compute_cell", "failed_outcome", "write_outcome"]
+__all__ = [
+    "CellOutcome", "CellSummary", "CellTimeout", "compute_and_store", "compute_cell", "failed_outcome", "time_limit",
+    "write_outcome",
+]
 
 #: Lines of traceback kept with a failed cell.
 TRACEBACK_LINES = 40
@@ -121,13 +134,14 @@ def _scaled_record(job: CellJob, registry):
     experiment = job.experiment
     spec = experiment.record(job.record)
     record = scaled_record(load_record(experiment, spec, registry), job.intensity, experiment.intensities,
-                           experiment.integration.dt_integration, registry)
+                           experiment.integration.dt_integration, registry,
+                           min_peak_ratio=experiment.run.min_peak_ratio)
     measures = {
         "source": record.title, "synthetic": record.synthetic, "dt": record.dt, "samples": record.n,
         "scale_factor": record.metadata.get("scale_factor", 1.0), "target": job.intensity.target.to_dict(),
         "pga_h10": record_pga_h10(record), "t_ha": record_t_ha(record),
         "degree": record_degree(record, get_scale(experiment.intensities.scale, registry)),
-        "notes": list(record.notes),
+        "notes": list(record.notes), "peak_ratio": record.min_peak_ratio,
     }
     return record, ground_acceleration(record, spec.components), measures
 
@@ -144,41 +158,116 @@ def _shake(job: CellJob, model, system, ag, dt, elements, nodes):
         return exc.result, exc
 
 
+class CellTimeout(BaseException):
+    """The cell ran longer than ``[run] cell_timeout``. A BaseException, as KeyboardInterrupt is, so
+    that no ``except Exception`` on the way (the solver's, a law's) takes it for a failed step."""
+
+    def __init__(self, seconds: float):
+        super().__init__(f"the cell ran longer than [run] cell_timeout = {seconds:g} s and was ended (a law that "
+                         "does not return? raise the limit if the cell is just long)")
+
+
+@contextlib.contextmanager
+def time_limit(seconds: float):
+    """Raise :class:`CellTimeout` in this thread after ``seconds`` of wall time (an interval timer and
+    SIGALRM; only where they exist and in the main thread, as in the serial executor and in each worker
+    process of the processes executor; elsewhere, e.g. in a Dask worker's threads, no limit)."""
+    if not hasattr(signal, "setitimer") or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def on_alarm(signum, frame):
+        raise CellTimeout(seconds)
+
+    previous = signal.signal(signal.SIGALRM, on_alarm)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+@contextlib.contextmanager
+def _caught_warnings():
+    """Record the warnings a cell raises (numpy's overflow and invalid-value warnings, say) instead of
+    printing them to the worker's stderr: they go into the cell's document, once each. Only in the
+    main thread (the warnings filters are global to the process); elsewhere they pass as usual."""
+    if threading.current_thread() is not threading.main_thread():
+        yield []
+        return
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", RuntimeWarning)  # every one counted, not once per place
+        yield caught
+
+
+def _warning_notes(caught) -> list[str]:
+    """Each distinct warning once: ``Category: message (file:line), N time(s)``."""
+    counts: dict = {}
+    for w in caught:
+        key = f"{w.category.__name__}: {w.message} ({os.path.basename(w.filename)}:{w.lineno})"
+        counts[key] = counts.get(key, 0) + 1
+    return [f"{key}, {n} time(s)" for key, n in counts.items()]
+
+
 def compute_cell(job: CellJob) -> CellOutcome:
     """Compute one cell (module docstring); failures are outcomes, not exceptions."""
     experiment = job.experiment
     wall = time.perf_counter()
     document = _document(job)
-    histories = meta = None
-    try:
-        registry = registry_for(experiment.plugins, import_paths(experiment))
-        model = build_model(experiment, experiment.model(job.model), registry)
-        document["laws"] = _laws(model)
-        elements = response_elements(experiment.structure, model)
-        nodes = deck_nodes(experiment.structure, model)
-        record, ag, document["record_measures"] = _scaled_record(job, registry)
-        result, failure = _shake(job, model, as_system(model, registry), ag, record.dt, elements, nodes)
-        if result is not None:
-            reduced, metrics = reduce_result(result, model, elements, nodes, metric_families(registry))
-            document["stats"] = result.stats
-            document["settings"] = result.settings
-            every = recording(experiment)
-            if every is not None:
-                histories = thinned({**reduced, "ground.acceleration": ag}, every)
-                meta = _history_meta(job, model, elements, nodes, every)
-        if failure is not None:
-            raise failure
-        document["metrics"] = metrics
-        document["status"] = "ok"
-        document["error"] = None
-    except Exception as exc:  # noqa: BLE001 - any failure of one cell is recorded, the others go on
-        document["status"] = "failed"
-        document["metrics"] = {}
-        document["error"] = _error(exc)
+    kept: dict = {}
+    with _caught_warnings() as caught:
+        try:
+            with time_limit(experiment.run.cell_timeout):
+                _compute(job, document, kept)
+        except (Exception, CellTimeout) as exc:  # noqa: BLE001 - any failure of one cell is recorded, the others go on
+            document["status"] = "failed"
+            document["metrics"] = {}
+            document["error"] = _error(exc)
+    document["warnings"] = _warning_notes(caught)
     document["finished"] = _now()
     document["wall_time"] = time.perf_counter() - wall
+    histories = kept.get("histories")
     document["histories"] = f"{job.intensity.name}.npz" if histories is not None else None
-    return CellOutcome(document, histories, meta)
+    return CellOutcome(document, histories, kept.get("meta"))
+
+
+def _compute(job: CellJob, document: dict, kept: dict) -> None:
+    """The cell's work: fills ``document`` (status ok or suspect) and ``kept`` (``histories`` and their
+    ``meta``, if kept: also those of a failed analysis, up to the failure); raises on a failure."""
+    experiment = job.experiment
+    registry = registry_for(experiment.plugins, import_paths(experiment))
+    model = build_model(experiment, experiment.model(job.model), registry)
+    document["laws"] = _laws(model)
+    elements = response_elements(experiment.structure, model)
+    nodes = deck_nodes(experiment.structure, model)
+    record, ag, document["record_measures"] = _scaled_record(job, registry)
+    system = as_system(model, registry)
+    impure = law_purity_problems(system, model, record.dt)  # cheap; under the cell's time limit
+    if impure:
+        raise LawPurityError("; ".join(impure))
+    result, failure = _shake(job, model, system, ag, record.dt, elements, nodes)
+    if result is not None:
+        reduced, metrics = reduce_result(result, model, elements, nodes, metric_families(registry))
+        document["stats"] = result.stats
+        document["settings"] = result.settings
+        if failure is None:
+            document["acceptance"] = accept_cell(result.stats, reduced, metrics, model,
+                                                 record.min_peak_ratio, experiment.run)
+        every = recording(experiment)
+        if every is not None:
+            kept["histories"] = thinned({**reduced, "ground.acceleration": ag}, every)
+            kept["meta"] = _history_meta(job, model, elements, nodes, every)
+    if failure is not None:
+        raise failure
+    document["metrics"] = metrics
+    if document["acceptance"]["passed"]:
+        document["status"] = "ok"
+        document["error"] = None
+    else:  # it ran, but its result is not to be trusted (module acceptance)
+        document["status"] = SUSPECT
+        document["error"] = {"type": "AcceptanceCheck", "message": "; ".join(document["acceptance"]["problems"]),
+                             "traceback": ""}
 
 
 def write_outcome(store: Store, outcome: CellOutcome) -> None:

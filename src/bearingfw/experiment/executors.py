@@ -14,7 +14,9 @@ The executor protocol. An executor is a class registered through the plugin hook
   it; or :func:`~bearingfw.experiment.execute.compute_cell` remotely, then
   :func:`~bearingfw.experiment.execute.write_outcome` here), and call ``done(summary)`` here as
   each finishes, in completion order. A cell that fails is an outcome, not an exception; an
-  exception from ``run`` stops the run (``KeyboardInterrupt`` must abandon the cells in progress).
+  exception from ``run`` stops the run (``KeyboardInterrupt`` must abandon the cells in progress);
+- optionally ``check()``: raise :class:`ExecutorUnavailable` if it cannot run (a scheduler that
+  cannot be reached); the run calls it before it writes anything into the results directory.
 
 A new executor is one module with such a class and a ``@hookimpl`` returning it, loaded by an
 entry point or by an experiment's ``plugins = [...]``; :func:`make_executor` finds it by name.
@@ -51,6 +53,7 @@ import multiprocessing
 import multiprocessing.connection
 import os
 import threading
+import time
 import inspect
 from collections.abc import Callable, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -60,6 +63,7 @@ from typing import Protocol
 from bearingfw.experiment.cells import CellJob
 from bearingfw.experiment.execute import (
     CellSummary,
+    CellTimeout,
     compute_and_store,
     compute_cell,
     failed_outcome,
@@ -73,6 +77,7 @@ __all__ = [
     "Executor",
     "DaskExecutor",
     "ExecutorError",
+    "ExecutorUnavailable",
     "ProcessExecutor",
     "SerialExecutor",
     "local_workers",
@@ -94,7 +99,16 @@ class Executor(Protocol):
 
 
 class ExecutorError(RuntimeError):
-    """An executor cannot run (Dask missing, a scheduler unreachable)."""
+    """An executor cannot run: an unknown name or a bad option (bad input), or :class:`ExecutorUnavailable`."""
+
+
+class ExecutorUnavailable(ExecutorError):
+    """The executor exists but the environment does not let it run (Dask missing, a scheduler unreachable,
+    a cluster without workers): the same command can succeed once that is fixed."""
+
+
+#: How often a Dask run looks at its cluster while it waits for cells (s).
+_DASK_POLL = 1.0
 
 
 def _cores() -> int:
@@ -157,14 +171,23 @@ class ProcessExecutor:
         """Run cells until all are done (returns []) or the pool breaks (returns those not started)."""
         pool = _pool(min(self.workers, len(pending)))
         running = {}
+        started = {}
         try:
             while pending or running:
                 # At most one cell per worker in flight: a broken pool then only takes down the
                 # cells that were really running, and Ctrl-C has no queue to drain.
                 while pending and len(running) < self.workers:
                     job = pending.pop(0)
-                    running[pool.submit(compute_and_store, job, str(store.root))] = job
-                finished, _ = wait(running, return_when=FIRST_COMPLETED)
+                    future = pool.submit(compute_and_store, job, str(store.root))
+                    running[future], started[future] = job, time.monotonic()
+                deadline = min(started[f] + _hard_limit(j) for f, j in running.items())
+                finished, _ = wait(running, timeout=max(0.0, deadline - time.monotonic()) + 0.1,
+                                   return_when=FIRST_COMPLETED)
+                if not finished:
+                    overdue = [f for f, j in running.items() if time.monotonic() - started[f] > _hard_limit(j)]
+                    if overdue:
+                        return self._end_overdue(pool, overdue, running, pending, store, done)
+                    continue
                 broken = False
                 for future in finished:
                     job = running.pop(future)
@@ -184,13 +207,37 @@ class ProcessExecutor:
         finally:
             pool.shutdown(wait=True, cancel_futures=True)
 
+    def _end_overdue(self, pool, overdue, running: dict, pending: list, store: Store, done: Done) -> list[CellJob]:
+        """A worker stuck past its cell's limit that the cell's own alarm did not stop (a law stuck in
+        compiled code): end the pool, record the stuck cells as failed; the others run again in a fresh pool."""
+        _terminate(pool)
+        for future in overdue:
+            job = running.pop(future)
+            outcome = failed_outcome(job, CellTimeout(job.experiment.run.cell_timeout))
+            write_outcome(store, outcome)
+            done(outcome.summary)
+        again = []
+        for job in running.values():
+            if not self._committed(store, job, done):
+                again.append(job)
+        return again + pending
+
+    @staticmethod
+    def _committed(store: Store, job: CellJob, done: Done) -> bool:
+        """If the cell's result for these inputs is stored (ok or suspect), report it and say True."""
+        document = store.read_cell(job.id)
+        if (document is not None and document.get("digest") == job.digest
+                and document.get("status") in ("ok", "suspect")):
+            error = (document.get("error") or {}).get("message")
+            done(CellSummary(document["id"], document["model"], document["status"], document["wall_time"], error))
+            return True
+        return False
+
     @staticmethod
     def _failed(store: Store, job: CellJob, done: Done) -> None:
         # A dying worker breaks the whole pool: siblings that had already committed their cell
         # also report BrokenProcessPool. Their stored result stands; never overwrite it.
-        document = store.read_cell(job.id)
-        if document is not None and document.get("digest") == job.digest and document.get("status") == "ok":
-            done(CellSummary(document["id"], document["model"], "ok", document["wall_time"]))
+        if ProcessExecutor._committed(store, job, done):
             return
         exc = WorkerDied(
             "the worker process running this cell died (killed, or crashed, e.g. out of memory); the cells "
@@ -201,16 +248,44 @@ class ProcessExecutor:
         done(outcome.summary)
 
 
-def _terminate(pool: ProcessPoolExecutor) -> None:
-    """Stop a pool now: cancel what has not started and end the workers (their cells are abandoned)."""
-    pool.shutdown(wait=False, cancel_futures=True)
-    terminate = getattr(pool, "terminate_workers", None)  # Python >= 3.14
-    if terminate is not None:
-        terminate()
-        return
-    for process in list((getattr(pool, "_processes", None) or {}).values()):
+def _hard_limit(job: CellJob) -> float:
+    """When the run ends a cell's worker itself (s after submitting it): the cell's own alarm
+    (``[run] cell_timeout``, :func:`~bearingfw.experiment.execute.time_limit`) should have ended it
+    before; this is for a worker that the alarm cannot reach, with room for a worker's start."""
+    limit = job.experiment.run.cell_timeout
+    return limit + max(_HARD_MARGIN, 0.1 * limit)
+
+
+#: The least time the run gives a cell's own alarm before it ends the worker itself (s).
+_HARD_MARGIN = 10.0
+
+
+#: How long a terminated worker has to end before it is killed (s).
+_TERMINATE_GRACE = 1.0
+
+
+def _end_processes(processes) -> None:
+    """SIGTERM each process, then SIGKILL those still alive after :data:`_TERMINATE_GRACE`."""
+    for process in processes:
         with contextlib.suppress(Exception):
             process.terminate()
+    deadline = time.monotonic() + _TERMINATE_GRACE
+    for process in processes:
+        with contextlib.suppress(Exception):
+            process.join(max(0.0, deadline - time.monotonic()))
+            if process.is_alive():
+                process.kill()
+                process.join(1.0)
+
+
+def _terminate(pool: ProcessPoolExecutor) -> None:
+    """Stop a pool now: end the workers (their cells are abandoned), then cancel what has not started.
+
+    The workers first: ``shutdown`` empties ``pool._processes`` (CPython 3.11), after which they
+    could no longer be reached, and a worker stuck in a cell would hold the run forever."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    _end_processes(processes)
+    pool.shutdown(wait=False, cancel_futures=True)
 
 
 class DaskExecutor:
@@ -225,43 +300,78 @@ class DaskExecutor:
         self.timeout = timeout
 
     def _client(self, stack: contextlib.ExitStack):
-        try:
-            from distributed import Client, LocalCluster
-        except ImportError:
-            raise ExecutorError(
-                "the dask executor needs Dask distributed, an optional extra: pip install 'bearingfw[dask]'"
-            ) from None
+        distributed = self._distributed()
+        Client, LocalCluster = distributed.Client, distributed.LocalCluster
         if self.scheduler:
             try:
                 return stack.enter_context(Client(self.scheduler, timeout=self.timeout))
             except (OSError, TimeoutError) as exc:
-                raise ExecutorError(f"cannot reach the Dask scheduler at {self.scheduler}: {exc}") from None
+                raise ExecutorUnavailable(f"cannot reach the Dask scheduler at {self.scheduler}: {exc}") from None
         cluster = stack.enter_context(
             LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True, dashboard_address=None,
                          silence_logs=logging.ERROR)
         )
         return stack.enter_context(Client(cluster))
 
+    def check(self) -> None:
+        """Raise :class:`ExecutorUnavailable` if the run could not start (Dask missing, the scheduler
+        unreachable): called before anything is written into the results directory."""
+        with contextlib.ExitStack() as stack:
+            if self.scheduler:
+                self._client(stack)
+            else:
+                self._distributed()
+
+    @staticmethod
+    def _distributed():
+        try:
+            import distributed
+        except ImportError:
+            raise ExecutorUnavailable(
+                "the dask executor needs Dask distributed, an optional extra: pip install 'bearingfw[dask]'"
+            ) from None
+        return distributed
+
     def run(self, jobs: Sequence[CellJob], store: Store, done: Done) -> None:
         if not jobs:
             return
+        distributed = self._distributed()
+        limit = jobs[0].experiment.run.dask_no_worker_timeout
         with contextlib.ExitStack() as stack:
             client = self._client(stack)
-            from distributed import as_completed
-
             futures = {client.submit(compute_cell, job, pure=False): job for job in jobs}
             try:
-                for future in as_completed(futures):
-                    job = futures[future]
+                pending, alone_since = set(futures), None
+                while pending:
                     try:
-                        outcome = future.result()
-                    except Exception as exc:  # noqa: BLE001 - e.g. KilledWorker: the cell failed, not the run
-                        outcome = failed_outcome(job, exc)
-                    write_outcome(store, outcome)
-                    done(outcome.summary)
+                        finished, pending = distributed.wait(pending, timeout=_DASK_POLL, return_when="FIRST_COMPLETED")
+                    except TimeoutError:
+                        finished = set()
+                    for future in finished:
+                        self._commit(future, futures[future], store, done)
+                    if not pending:
+                        break
+                    # A cluster whose workers all died waits for new ones; not forever.
+                    if client.scheduler_info().get("workers"):
+                        alone_since = None
+                    elif alone_since is None:
+                        alone_since = time.monotonic()
+                    elif time.monotonic() - alone_since > limit:
+                        raise ExecutorUnavailable(
+                            f"the Dask cluster has had no live worker for {limit:g} s ([run] dask_no_worker_timeout); "
+                            f"{len(pending)} cell(s) not computed: start workers and run again to continue")
             except BaseException:
                 client.cancel(list(futures))
                 raise
+
+    @staticmethod
+    def _commit(future, job: CellJob, store: Store, done: Done) -> None:
+        try:
+            outcome = future.result()
+        except Exception as exc:  # noqa: BLE001 - e.g. KilledWorker: the cell failed, not the run
+            outcome = failed_outcome(job, exc)
+        write_outcome(store, outcome)
+        done(outcome.summary)
 
 
 def local_workers(executor) -> int:

@@ -110,17 +110,19 @@ def table_field(doc: str = ""):
                        metadata={"doc": doc})
 
 
-def reals_field(*, what: str, unit: str, doc: str = ""):
-    """An optional list of distinct finite values > 0 (``what`` and ``unit`` name them in the message)."""
+def reals_field(*, what: str, unit: str, doc: str = "", high: float | None = None, why: str = ""):
+    """An optional list of distinct finite values > 0 and, given ``high``, at most ``high`` (``what``,
+    ``unit`` and ``why``, the reason for the bound, go into the message)."""
 
     def check(instance, attribute, value):
         if value is None:
             return
         ok = isinstance(value, tuple) and value and all(
-            isinstance(v, float) and math.isfinite(v) and v > 0 for v in value)
+            isinstance(v, float) and math.isfinite(v) and v > 0 and (high is None or v <= high) for v in value)
         if not ok:
-            raise SpecError(f"{owner_of(instance)}: field {attribute.name!r} must be a list of {what} values > 0 "
-                            f"({unit}), got {value!r}")
+            bound = "" if high is None else f" and <= {high:g}"
+            raise SpecError(f"{owner_of(instance)}: field {attribute.name!r} must be a list of {what} values > 0"
+                            f"{bound} ({unit}{', ' + why if why and high is not None else ''}), got {value!r}")
         if len(set(value)) != len(value):
             raise SpecError(f"{owner_of(instance)}: field {attribute.name!r} gives a value twice: {list(value)!r}")
 

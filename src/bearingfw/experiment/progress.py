@@ -89,7 +89,7 @@ class Progress:
         self.failed += summary.status != "ok"
         elapsed = time.perf_counter() - self.start
         eta = estimate_remaining(self.times, +self.remaining, self.workers)
-        state = "ok" if summary.status == "ok" else f"FAILED: {summary.error}"
+        state = "ok" if summary.status == "ok" else f"{summary.status.upper()}: {summary.error}"
         line = (f"[{self.done}/{self.total}] {summary.id} {state} ({summary.wall_time:.1f} s) | elapsed "
                 f"{format_duration(elapsed)}" + ("" if eta is None or self.done == self.total else
                                                  f" | ETA {format_duration(eta)}"))

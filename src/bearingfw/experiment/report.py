@@ -68,17 +68,29 @@ def _pngs(data: ReportData, prefix: str) -> list[Path]:
 def _summary(data: ReportData) -> list[str]:
     s = data.summary
     missing = sum(1 for _, d in data.cells if d is None)
-    failed = sum(1 for _, d in data.cells if d is not None and d.get("status") != "ok")
-    lines = [
+    failed = sum(1 for _, d in data.cells if d is not None and d.get("status") not in ("ok", "suspect"))
+    suspect = [(i, d) for i, d in data.cells if d is not None and d.get("status") == "suspect"]
+    lines = []
+    if suspect:  # first: a result that is not to be trusted must not be missed
+        lines += ["## Suspect cells", "",
+                  (f"**{len(suspect)} cell(s) ran but failed an acceptance check** (`[run]` tolerances); their "
+                   "values are left out of the matrices and they are computed again on the next run:"), ""]
+        lines += [f"- **{i}**: {(d.get('error') or {}).get('message', '')}" for i, d in suspect]
+        lines += [""]
+    lines += [
         "## Summary", "",
         (f"- cells: {s.cells} ({len(data.experiment.models)} models x {len(data.experiment.records)} record(s) x "
          f"{len(data.intensities)} intensities); {len(s.computed)} computed in this run, "
          f"{len(s.skipped)} kept from earlier runs"
          + (f" ({len(s.thinned)} of them with their histories thinned to the new `every`)" if s.thinned else "")
-         + f", {failed} failed, {missing} not computed"),
+         + f", {failed} failed, {len(suspect)} suspect, {missing} not computed"),
         (f"- cells computed in {s.run_time:.1f} s of wall time on the {s.executor} executor ({s.workers} worker(s)); "
          f"whole run {s.wall_time:.1f} s"),
     ]
+    if getattr(s, "damaged", ()):
+        lines += [f"- {len(s.damaged)} stored cell(s) failed their integrity check (checksums) and were computed "
+                  "again:"]
+        lines += [f"  - {cell}: {problem}" for cell, problem in s.damaged]
     lines += _findings(data.findings)
     return lines
 
@@ -279,15 +291,18 @@ def _statistics(data: ReportData) -> list[str]:
         st = d.get("stats") or {}
         rows.append((cell_id, d["status"], f"{d['wall_time']:.2f}", st.get("steps", ""), st.get("substeps", ""),
                      st.get("iterations", ""), st.get("subdivisions", ""), _g(st.get("energy_error"), 3)))
+    noted = [(cell_id, d["warnings"]) for cell_id, d in data.cells if d is not None and d.get("warnings")]
+    notes = ["", "Warnings raised while computing cells (each once, with how often):", ""] if noted else []
+    notes += [f"- {cell_id}: {note}" for cell_id, found in noted for note in found]
     return ["## Run statistics", "",
             ("Per cell (the last time it was computed): wall time, integration steps and sub-steps, Newton "
              "iterations, step halvings, and the energy balance error max abs(imbalance) / max abs(input work)."), "",
             *_table(["cell", "status", "wall time [s]", "steps", "sub-steps", "iterations", "halvings", "energy error"],
-                    rows)]
+                    rows), *notes]
 
 
 def _failures(data: ReportData) -> list[str]:
-    failed = [(i, d) for i, d in data.cells if d is not None and d.get("status") != "ok"]
+    failed = [(i, d) for i, d in data.cells if d is not None and d.get("status") not in ("ok", "suspect")]
     if not failed:
         return ["## Failed cells", "", "None."]
     lines = ["## Failed cells", "", "Each failed cell is tried again on the next run.", ""]

@@ -36,6 +36,7 @@ import attrs
 
 from bearingfw.analysis import Rayleigh, solve_modal
 from bearingfw.bridges import find_preset
+from bearingfw.experiment.acceptance import SUSPECT
 from bearingfw.experiment.cells import CellJob, plan_cells, recording
 from bearingfw.experiment.executors import ProcessExecutor, local_workers
 from bearingfw.experiment.findings import Finding, check_findings
@@ -228,16 +229,22 @@ class RunSummary:
     table: tuple[str, ...] = ()
     #: Cells kept whose stored histories were only thinned to the new ``[output] every`` (in ``skipped`` too).
     thinned: tuple[str, ...] = ()
+    #: Cells that ran but failed an acceptance check (:mod:`~bearingfw.experiment.acceptance`): (id, reasons).
+    suspect: tuple[tuple[str, str], ...] = ()
+    #: Stored cells whose files failed their integrity check and were computed again: (id, what was wrong).
+    damaged: tuple[tuple[str, str], ...] = ()
 
     @property
     def exit_code(self) -> int:
-        """0 if no cell of the experiment failed, 1 if any did (cells left out with --only or --levels
-        and not computed earlier are listed as missing, not failed)."""
-        return 1 if self.failed else 0
+        """0 if no cell of the experiment failed or is suspect, 1 if any is (cells left out with --only or
+        --levels and not computed earlier are listed as missing, not failed)."""
+        return 1 if self.failed or self.suspect else 0
 
     def to_dict(self) -> dict:
         data = attrs.asdict(self, recurse=False, filter=lambda a, v: a.name not in ("matrices", "table"))
         data["failed"] = [{"id": i, "error": e} for i, e in self.failed]
+        data["suspect"] = [{"id": i, "reasons": e} for i, e in self.suspect]
+        data["damaged"] = [{"id": i, "problem": e} for i, e in self.damaged]
         data["findings"] = [attrs.asdict(f) for f in self.findings]
         data["exit_code"] = self.exit_code
         data["units"] = {"wall_time": "s", "run_time": "s"}
@@ -252,6 +259,7 @@ class _Work:
     todo: list
     skipped: tuple[str, ...]
     thinned: tuple[str, ...]
+    damaged: tuple[tuple[str, str], ...] = ()
 
 
 def _check_selection(experiment: Experiment, checked: Checked, models, intensities) -> None:
@@ -266,8 +274,13 @@ def _work(store: Store, jobs: list[CellJob], every: int | None, force: bool, mod
     """Which of the wanted cells to compute, keep, or keep with thinned histories (module docstring, step 2)."""
     wanted = [j for j in jobs
               if (not models or j.model in models) and (not intensities or j.intensity.name in intensities)]
-    todo, thinned = [], []
+    todo, thinned, damaged = [], [], []
     for j in wanted:
+        document = store.read_cell(j.id)
+        if document is not None and document.get("digest") == j.digest and document.get("status") == "ok":
+            problem = store.damage(j.id)
+            if problem is not None:  # a result for these inputs, but not as it was written: never kept
+                damaged.append((j.id, problem))
         if force:
             todo.append(j)
         elif store.is_finished(j.id, j.digest, every):
@@ -277,7 +290,7 @@ def _work(store: Store, jobs: list[CellJob], every: int | None, force: bool, mod
         else:
             todo.append(j)
     todo_ids = {j.id for j in todo}
-    return _Work(jobs, todo, tuple(j.id for j in wanted if j.id not in todo_ids), tuple(thinned))
+    return _Work(jobs, todo, tuple(j.id for j in wanted if j.id not in todo_ids), tuple(thinned), tuple(damaged))
 
 
 def _write_manifest(store: Store, experiment: Experiment, executor, jobs, every, state: str) -> None:
@@ -322,11 +335,16 @@ def run_experiment(
     _check_selection(experiment, checked, models, intensities)
     jobs = plan_cells(experiment, checked.registry, checked.models, (checked.intensities, checked.rayleigh))
     every = recording(experiment)
+    check = getattr(executor, "check", None)  # an executor that cannot run (an unreachable scheduler)
+    if check is not None:                    # stops here, before anything is written into the directory
+        check()
     with store.claim(experiment.name, take_over):
         store.clean_temporaries()
         store.write_text("experiment.toml", experiment.source)
         work = _work(store, jobs, every, force, models, intensities)
         _write_manifest(store, experiment, executor, jobs, every, "running")
+        for cell, problem in work.damaged:
+            progress.note(f"{cell}: stored result not kept: {problem}; computing it again")
         progress.begin([j.model for j in work.todo], len(work.skipped), executor.name,
                        min(executor.workers, max(1, len(work.todo))), thinned=len(work.thinned))
         run_start = time.perf_counter()
@@ -345,7 +363,7 @@ def run_experiment(
         store.write_json("summary.json", summary.to_dict())
         _write_manifest(store, experiment, executor, jobs, every, "finished")
     progress.finish(f"{len(work.todo)} cell(s) run in {format_duration(run_time)}, {len(work.skipped)} kept, "
-                    f"{len(summary.failed)} failed, {len(summary.missing)} not computed; results in {store.root}")
+                    f"{len(summary.failed)} failed, {len(summary.suspect)} suspect, {len(summary.missing)} not computed; results in {store.root}")
     return summary
 
 
@@ -407,6 +425,7 @@ class _Results:
     documents: list
     done: list
     failed: tuple
+    suspect: tuple
     missing: tuple
     matrices: Matrices
     records: dict
@@ -419,7 +438,9 @@ def _results(experiment: Experiment, checked: Checked, store: Store, jobs: list[
     """Read every cell back; write the matrices, units, records' measures and modal results."""
     documents = _documents(store, jobs)
     done = [d for d in documents if d is not None]
-    failed = tuple((d["id"], (d.get("error") or {}).get("message", "")) for d in done if d.get("status") != "ok")
+    failed = tuple((d["id"], (d.get("error") or {}).get("message", "")) for d in done
+                   if d.get("status") not in ("ok", SUSPECT))
+    suspect = tuple((d["id"], (d.get("error") or {}).get("message", "")) for d in done if d.get("status") == SUSPECT)
     missing = tuple(j.id for j, d in zip(jobs, documents) if d is None)
     matrices = collect_matrices(done, experiment.model_names, experiment.record_names,
                                 tuple(i.name for i in checked.intensities), experiment.reference_model,
@@ -432,7 +453,7 @@ def _results(experiment: Experiment, checked: Checked, store: Store, jobs: list[
     modal = _modal(checked)
     files["records.json"] = str(store.write_json("records.json", records))
     files["modal.json"] = str(store.write_json("modal.json", modal))
-    return _Results(documents, done, failed, missing, matrices, records, points, modal, files)
+    return _Results(documents, done, failed, suspect, missing, matrices, records, points, modal, files)
 
 
 def _friction_coefficient(experiment: Experiment, model: Model, name: str, bearing: str | None) -> float | None:
@@ -507,7 +528,7 @@ def _post_process(experiment: Experiment, checked: Checked, store: Store, work: 
     summary = RunSummary(
         experiment.name, str(store.root), executor.name, executor.workers, len(work.jobs),
         tuple(j.id for j in work.todo), work.skipped, results.failed, results.missing, time.perf_counter() - wall,
-        run_time, files, findings, results.matrices, checked.table, work.thinned,
+        run_time, files, findings, results.matrices, checked.table, work.thinned, results.suspect, work.damaged,
     )
     if experiment.output.report:
         files["report.md"] = str(_write_report(experiment, checked, store, work.jobs, results, summary, figures))

@@ -57,6 +57,7 @@ __all__ = [
     "ModelSpec",
     "OutputSpec",
     "RecordSpec",
+    "RunSpec",
     "SpecError",
     "StructureSpec",
     "from_table",
@@ -292,6 +293,12 @@ def _check_period(instance, attribute, value):
                         f"mode), got {value!r}")
 
 
+#: The largest acceleration an intensity may ask for (m/s^2): 100 g, far beyond any ground motion; a
+#: larger target only overflows the scaled record (and its measures) into meaningless numbers.
+MAX_ACCELERATION = 1000.0
+_WHY_MAX = "100 g, far beyond any ground motion"
+
+
 @attrs.frozen
 class IntensitySpec:
     """``[intensities]``: what every record is scaled to, one intensity per entry, in this order.
@@ -311,9 +318,9 @@ class IntensitySpec:
     values: dict = table_field(  # noqa: RUF009 - an attrs field with a factory, not a shared default
         "PGA_H10 (m/s^2) of some levels, replacing the defaults"
     )
-    pga_h10: tuple[float, ...] | None = reals_field(what="PGA_H10", unit="m/s^2")
-    pga: tuple[float, ...] | None = reals_field(what="PGA", unit="m/s^2")
-    sa: tuple[float, ...] | None = reals_field(what="Sa(T, 5 %)", unit="m/s^2")
+    pga_h10: tuple[float, ...] | None = reals_field(what="PGA_H10", unit="m/s^2", high=MAX_ACCELERATION, why=_WHY_MAX)
+    pga: tuple[float, ...] | None = reals_field(what="PGA", unit="m/s^2", high=MAX_ACCELERATION, why=_WHY_MAX)
+    sa: tuple[float, ...] | None = reals_field(what="Sa(T, 5 %)", unit="m/s^2", high=MAX_ACCELERATION, why=_WHY_MAX)
     period: float | str | None = attrs.field(
         default=None, converter=lambda v: float(v) if isinstance(v, int) and not isinstance(v, bool) else v,
         validator=_check_period, metadata={"doc": "period of Sa (s) or 'T1'", "unit": "s"},
@@ -439,6 +446,40 @@ class DampingSpec:
             return Rayleigh.from_ratios(f1, z1, f2, z2)
         except ParameterError as exc:
             raise SpecError(f"field 'ratios': {exc}") from None
+
+
+# ---- [run] ---------------------------------------------------------------------------------------------------
+@attrs.frozen
+class RunSpec:
+    """``[run]``: when a computed cell is accepted, and how long the run waits.
+
+    Acceptance (a cell that fails a check is stored as ``suspect`` with the reasons, left out of
+    the matrices, listed at the top of the report, and the run exits with status 1; see
+    :mod:`bearingfw.experiment.acceptance`): ``energy_tolerance``, the largest energy balance
+    error accepted (work no term of the balance accounts for, over the largest input work);
+    ``dissipation_tolerance``, the largest share of the input work HHT's numerical dissipation may
+    remove (an integration step too coarse for the motion shows there); ``min_peak_ratio``, the least
+    fraction of each record component's peak that resampling to the integration step may keep
+    (below it the cell fails). They are inputs of the cells: changing one computes them again.
+
+    Time limits, not inputs: ``cell_timeout``, the wall time after which a cell still running is
+    ended and recorded as failed (an alarm signal in the process computing it, POSIX only: the
+    ``serial`` executor's main thread, each worker of ``processes``, whose run also kills a worker
+    the alarm cannot reach, 10 s later at the least; Dask runs cells in worker threads, where no
+    limit applies); ``dask_no_worker_timeout``, how long a Dask run waits with no live worker
+    before it stops with a message.
+    """
+
+    energy_tolerance: float = parameter(low=0.0, low_open=True, high=1.0, default=0.01, unit="-",
+                                        doc="largest accepted energy balance error (fraction of the input work)")
+    dissipation_tolerance: float = parameter(low=0.0, low_open=True, high=1.0, default=0.05, unit="-",
+                                             doc="largest accepted numerical dissipation (fraction of the input work)")
+    min_peak_ratio: float = parameter(low=0.0, high=1.0, default=0.5, unit="-",
+                                      doc="least fraction of a component's peak that resampling may keep")
+    cell_timeout: float = parameter(low=0.0, low_open=True, default=3600.0, unit="s",
+                                    doc="wall time after which a running cell is ended as failed")
+    dask_no_worker_timeout: float = parameter(low=0.0, low_open=True, default=300.0, unit="s",
+                                              doc="how long a Dask run waits with no live worker")
 
 
 # ---- [output], [figures] ----------------------------------------------------------------------------------
@@ -595,6 +636,7 @@ class Experiment:
     output: OutputSpec = attrs.field(factory=OutputSpec)
     figures: FigureSpec = attrs.field(factory=FigureSpec)
     findings: tuple[FindingSpec, ...] = ()
+    run: RunSpec = attrs.field(factory=RunSpec)
     base_dir: Path = attrs.field(factory=Path.cwd, converter=Path)
     source: str = ""
 
@@ -659,6 +701,7 @@ _TABLES = {
     "damping": DampingSpec,
     "output": OutputSpec,
     "figures": FigureSpec,
+    "run": RunSpec,
 }
 _NAMED = {"models": ModelSpec, "records": RecordSpec}
 _LISTS = {"findings": FindingSpec}
@@ -734,9 +777,17 @@ def load_experiment(path: str | Path) -> Experiment:
     """Read an experiment file (TOML, module docstring)."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        data = path.read_bytes()
     except OSError as exc:
         raise SpecError(f"{path}: cannot read the experiment file: {exc.strerror or exc}") from None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data.count(b"\n", 0, exc.start) + 1
+        raise SpecError(
+            f"{path}: not UTF-8 text (TOML files are UTF-8): byte 0x{data[exc.start]:02x} at byte offset "
+            f"{exc.start} (line {line}) cannot be decoded; save the file as UTF-8"
+        ) from None
     return parse_experiment(text, path.resolve().parent, str(path))
 
 

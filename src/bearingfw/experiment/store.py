@@ -23,6 +23,11 @@ histories file carries the same digest and thinning. So an interrupted run (Ctrl
 crash, a power cut between the two files) loses at most the cells in progress. A failed cell is
 recorded (status ``failed`` with the error) and is tried again on the next run.
 
+Integrity: a cell's JSON carries the SHA-256 of its own content (``checksum``) and of its
+histories file (``histories_sha256``); a stored cell counts as finished only while both match
+(:meth:`Store.damage`). A cell whose files were edited, emptied or damaged after they were
+written is computed again, and the run says so; it is never kept as ``ok``.
+
 One run at a time (:meth:`Store.claim`): a run holds an exclusive lock on ``DIR/.lock``
 (``flock``; the operating system releases it when the process ends, however it ends, so a lock
 is never stale) and writes its pid, host and experiment into it; a second run into the same
@@ -45,6 +50,7 @@ from __future__ import annotations
 import contextlib
 import csv
 import datetime
+import hashlib
 import io
 import json
 import math
@@ -77,20 +83,34 @@ class StoreError(RuntimeError):
 def atomic_write(path: str | Path, data: bytes) -> Path:
     """Write ``data`` to ``path`` through a temporary file and a rename (module docstring)."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     temporary = path.parent / f"{_TEMPORARY}{path.name}.{_HOST}-{os.getpid()}.{uuid.uuid4().hex[:12]}"
-    # os.open, not tempfile.mkstemp: the file gets the umask's permissions (mkstemp's are 0600)
-    fd = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o666)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        # os.open, not tempfile.mkstemp: the file gets the umask's permissions (mkstemp's are 0600)
+        fd = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o666)
+    except OSError as exc:
+        raise _naming(exc, path) from None
     try:
         with os.fdopen(fd, "wb") as handle:
             handle.write(data)
             handle.flush()
             os.fsync(handle.fileno())
         os.replace(temporary, path)
-    except BaseException:  # interrupted or failed: leave no partial file behind
-        temporary.unlink(missing_ok=True)
+    except BaseException as exc:  # interrupted or failed: leave no partial file behind
+        with contextlib.suppress(OSError):
+            temporary.unlink(missing_ok=True)
+        if isinstance(exc, OSError):
+            raise _naming(exc, path) from None
         raise
     return path
+
+
+def _naming(exc: OSError, path: Path) -> OSError:
+    """``exc`` naming the file that was being written (a full disk's error names none, a failed
+    create names the temporary): "DIR/x.json: No space left on device", not a bare "[Errno 28]"."""
+    if exc.filename is not None and _TEMPORARY not in Path(exc.filename).name:
+        return exc
+    return type(exc)(exc.errno, exc.strerror or str(exc), str(path))
 
 
 def _alive(pid: int) -> bool:
@@ -291,16 +311,46 @@ class Store:
 
     # ---- cells ----------------------------------------------------------------------------------
     def write_cell(self, document: dict, histories: Mapping[str, np.ndarray] | None, meta: dict | None = None) -> Path:
-        """Commit a cell: its histories (if any) first, then its JSON document."""
+        """Commit a cell: its histories (if any) first, then its JSON document, which carries the
+        checksums of both (module docstring, integrity)."""
+        document = {k: v for k, v in document.items() if k not in ("checksum", "histories_sha256")}
         if histories is not None:
-            self.write_histories(document["id"], histories, meta or {})
-        return atomic_write(self.cell_json(document["id"]), dumps({"format": CELL_FORMAT, **document}))
+            document["histories_sha256"] = self.write_histories(document["id"], histories, meta or {})[1]
+        return self._commit({"format": CELL_FORMAT, **document})
 
-    def write_histories(self, cell_id: str, histories: Mapping[str, np.ndarray], meta: dict) -> Path:
+    def _commit(self, document: dict) -> Path:
+        data = jsonable({k: v for k, v in document.items() if k != "checksum"})
+        return atomic_write(self.cell_json(document["id"]), dumps({**data, "checksum": _checksum(data)}))
+
+    def write_histories(self, cell_id: str, histories: Mapping[str, np.ndarray], meta: dict) -> tuple[Path, str]:
+        """Write a cell's histories file; its path and the SHA-256 of its bytes."""
         buffer = io.BytesIO()
         arrays = {k: np.asarray(v, dtype=np.float32) for k, v in histories.items()}
         np.savez_compressed(buffer, meta=np.array(json.dumps(jsonable(meta))), **arrays)
-        return atomic_write(self.cell_npz(cell_id), buffer.getvalue())
+        data = buffer.getvalue()
+        return atomic_write(self.cell_npz(cell_id), data), hashlib.sha256(data).hexdigest()
+
+    def damage(self, cell_id: str) -> str | None:
+        """What is wrong with the stored files of a cell whose JSON reads (None if they are as written):
+        a JSON whose content no longer matches its checksum (edited, emptied, truncated by hand or by
+        a fault), or a histories file that is not the one committed with it."""
+        document = self.read_cell(cell_id)
+        if document is None:
+            return None
+        stored = document.get("checksum")
+        if stored is None:
+            return "the cell's JSON carries no checksum (written by an older bearingfw, or edited)"
+        if _checksum({k: v for k, v in document.items() if k != "checksum"}) != stored:
+            return "the cell's JSON does not match its checksum (edited or damaged after it was written)"
+        expected = document.get("histories_sha256")
+        if expected is not None:
+            try:
+                actual = hashlib.sha256(self.cell_npz(cell_id).read_bytes()).hexdigest()
+            except OSError:
+                return "the cell's histories file is missing or unreadable"
+            if actual != expected:
+                return "the cell's histories file does not match the checksum committed with it"
+        return None
 
     def read_cell(self, cell_id: str) -> dict | None:
         """The cell's document, or None if it is missing or unreadable."""
@@ -315,6 +365,8 @@ class Store:
         (``every``: the thinning; None: none kept), histories of this digest thinned so."""
         document = self.read_cell(cell_id)
         if document is None or document.get("digest") != digest or document.get("status") != "ok":
+            return False
+        if self.damage(cell_id) is not None:
             return False
         if every is None:
             return True
@@ -349,8 +401,18 @@ class Store:
         if meta.get("digest") != digest or not isinstance(have, int) or have < 1 or every % have:
             return False
         if have != every:
-            self.write_histories(cell_id, thinned(histories, every // have), {**meta, "every": every})
+            document = self.read_cell(cell_id)
+            if document is None:
+                return False
+            _, checksum = self.write_histories(cell_id, thinned(histories, every // have), {**meta, "every": every})
+            self._commit({**document, "histories_sha256": checksum})  # the new histories' checksum
         return True
+
+
+def _checksum(data: dict) -> str:
+    """SHA-256 of a cell document's canonical JSON (sorted keys, no spaces)."""
+    text = json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=True)
+    return hashlib.sha256(text.encode()).hexdigest()
 
 
 def _describe(holder: dict | None) -> str:

@@ -341,10 +341,44 @@ def _home(module: str) -> tuple[str, ...]:
     return (str(origin.parent.parent if found.submodule_search_locations else origin.parent),)
 
 
+@functools.cache
+def package_source_digest(package: str) -> str | None:
+    """SHA-256 of the source (every ``.py`` file, by relative path and content) of the importable
+    top-level ``package``, wherever it is installed (an editable checkout too); None if it has no
+    source files here. Cached per process: the source of a running process does not change under it."""
+    try:
+        spec = importlib.util.find_spec(package)
+    except (ImportError, ValueError):
+        return None
+    if spec is None:
+        return None
+    if spec.submodule_search_locations:
+        files = sorted((Path(root), f) for root in spec.submodule_search_locations for f in Path(root).rglob("*.py"))
+    elif spec.origin and spec.origin.endswith(".py"):
+        files = [(Path(spec.origin).parent, Path(spec.origin))]
+    else:
+        return None
+    digest = hashlib.sha256()
+    for root, path in files:
+        try:
+            data = path.read_bytes()
+        except OSError:
+            continue
+        digest.update(path.relative_to(root).as_posix().encode() + b"\0" + hashlib.sha256(data).digest())
+    return digest.hexdigest() if files else None
+
+
+def _package_of(value) -> str | None:
+    module = getattr(value, "__module__", None) or getattr(type(value), "__module__", None)
+    return module.partition(".")[0] if isinstance(module, str) else None
+
+
 def code_inputs(experiment: Experiment, registry: Registry, laws: Iterable[str], readers: Iterable[str] = ()) -> dict:
     """What code a cell's result depends on beyond its data: bearingfw's version; the version of the
     distribution of each law ``laws``, record reader ``readers``, the intensity scale it uses and the
-    metric families; and the source files (:func:`local_sources`) of the experiment's own modules:
+    metric families; ``package_sources``: the digest of the source of bearingfw and of the packages
+    those come from (:func:`package_source_digest`: an edit in a development checkout counts); and
+    the source files (:func:`local_sources`) of the experiment's own modules:
     the structure's builder and the ``plugins`` modules that contribute one of those. Such a module
     that belongs to an installed distribution (and is not in the experiment's folders) counts by
     that version."""
@@ -352,12 +386,17 @@ def code_inputs(experiment: Experiment, registry: Registry, laws: Iterable[str],
     from bearingfw.motion.intensity import DEFAULT_SCALE_NAME
 
     paths = import_paths(experiment)
-    origins = [registry.laws[name].origin for name in sorted(set(laws))]
-    origins += [registry.record_readers[name].origin for name in sorted(set(readers))]
+    entries = [registry.laws[name] for name in sorted(set(laws))]
+    entries += [registry.record_readers[name] for name in sorted(set(readers))]
     scale = registry.intensity_scales.get(experiment.intensities.scale or DEFAULT_SCALE_NAME)
-    origins += [scale.origin] if scale is not None else []
-    origins += [entry.origin for entry in registry.metrics.values()]  # the metrics are part of a cell's result
+    entries += [scale] if scale is not None else []
+    entries += list(registry.metrics.values())  # the metrics are part of a cell's result
+    origins = [entry.origin for entry in entries]
     distributions = {o.distribution: o.version for o in origins if o.distribution}
+    # The source, not only the version: a law edited in a development checkout keeps its version.
+    packages = {"bearingfw"} | {_package_of(e.value) for e in entries
+                                if e.origin.distribution and not e.origin.plugin.startswith("experiment:")}
+    package_sources = {p: package_source_digest(p) for p in sorted(q for q in packages if q)}
     sources: dict = {}
     own = {o.plugin.partition(":")[2] for o in origins if o.plugin.startswith("experiment:")}
     builder, folders = import_location(experiment.structure.builder, base_dir=experiment.base_dir,
@@ -373,4 +412,4 @@ def code_inputs(experiment: Experiment, registry: Registry, laws: Iterable[str],
         else:  # elsewhere on sys.path: its own sources, from the folder it is imported from
             sources[name] = local_sources(name, _home(name))
     return {"bearingfw": __version__, "distributions": dict(sorted(distributions.items())),
-            "sources": dict(sorted(sources.items()))}
+            "package_sources": package_sources, "sources": dict(sorted(sources.items()))}

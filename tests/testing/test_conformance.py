@@ -41,14 +41,16 @@ class Friction:
     def _capacity_scale(self, trial, normal_force):
         norm = np.linalg.norm(trial, axis=1)
         capacity = self.mu * np.asarray(normal_force)
-        return np.where(norm > capacity, capacity / np.where(norm > 0, norm, 1), 1.0), norm
+        # No capacity (N = 0, as the kernel passes uplift): no force, so no stiffness either.
+        sliding = (norm > capacity) | (capacity <= 0)
+        return np.where(sliding, capacity / np.where(norm > 0, norm, 1), 1.0), norm
 
     def respond(self, state, u, normal_force, dt):
         trial = self.k * (u - state["slip"])
         scale, norm = self._capacity_scale(trial, normal_force)
         force = trial * scale[:, None]
         direction = trial / np.where(norm > 0, norm, 1)[:, None]
-        sliding = (scale < 1)[:, None, None]
+        sliding = ((norm > 0) & (scale < 1))[:, None, None]
         projector = np.eye(self.dims) - sliding * np.einsum("ij,ik->ijk", direction, direction)
         return LawResponse(force, self.k * scale[:, None, None] * projector, {"slip": u - force / self.k})
 
@@ -68,7 +70,8 @@ class BoxFriction(Friction):
         capacity = self.mu * np.asarray(normal_force)[:, None]
         trial = self.k * (u - state["slip"])
         force = np.clip(trial, -capacity, capacity)
-        tangent = self.k * np.einsum("ij,jk->ijk", (np.abs(trial) <= capacity).astype(float), np.eye(self.dims))
+        sticking = (np.abs(trial) <= capacity) & (capacity > 0)  # no capacity: no force, no stiffness
+        tangent = self.k * np.einsum("ij,jk->ijk", sticking.astype(float), np.eye(self.dims))
         return LawResponse(force, tangent, {"slip": u - force / self.k})
 
 

@@ -540,7 +540,7 @@ def test_passes_the_bearingfw_conformance_suite(dims, shape):
     The suite draws steps of up to 20 times displacement_scale, so uy / 4 still takes the paths far
     past yield (and keeps it short)."""
     law = BoucWen(**{"k": 4e8, "alpha": 0.05, "uy": 1e-3, **shape, "dims": dims})
-    check_law(law, displacement_scale=law.uy / 4, max_examples=10)
+    check_law(law, displacement_scale=law.uy / 4, max_examples=10, max_steps=12)
 
 
 def test_slip_is_zero_in_the_elastic_range_and_grows_after_yield():
@@ -550,3 +550,132 @@ def test_slip_is_zero_in_the_elastic_range_and_grows_after_yield():
     large = law.respond(law.initial_state(1), np.array([[5e-3]]), np.ones(1), 0.01).state
     # Saturated (z = 1): the elastic part is uy, the rest is plastic.
     assert law.slip(large)[0, 0] == pytest.approx(5e-3 - 1e-3, rel=1e-3)
+
+
+# --- regressions: the random draws of issue 14 that the conformance kit failed ------------------
+
+
+def test_issue14_draw_n11_2d_a_connector_in_a_batch_equals_it_alone_bit_for_bit():
+    """n = 11, uy = 0.21 mm, alpha = 0.34, A = 0.197, 2-D failed "vectorised": the batch's Newton
+    iterations went on for connectors that had converged, so their round-off depended on the
+    others. Each connector now keeps the iterate at which it converged: the same bits alone."""
+    from bearingfw.testing.conformance import check_vectorised, make_context
+
+    law = BoucWen(k=4e8, alpha=0.34, uy=0.21e-3, A=0.197, n=11.0, dims=2)
+    rng = np.random.default_rng(14)
+    m = 3
+    state, alone = law.initial_state(m), [law.initial_state(1) for _ in range(m)]
+    for step in range(6):
+        # Increments from a hundredth of uy to 30 uy (the largest cut into MAX_SUBSTEPS substeps).
+        u = state["u"] + rng.normal(size=(m, 2)) * law.uy * 10.0 ** rng.uniform(-2.0, 1.5, (m, 1))
+        together = law.respond(state, u, np.full(m, 1e6), 0.01)
+        for i in range(m):
+            single = law.respond(alone[i], u[i : i + 1], np.full(1, 1e6), 0.01)
+            np.testing.assert_array_equal(single.force[0], together.force[i])
+            np.testing.assert_array_equal(single.tangent[0], together.tangent[i])
+            alone[i] = single.state
+        state = together.state
+    check_vectorised(make_context(law, max_examples=3, max_steps=5, shrink=False))
+
+
+def test_issue14_draw_n61_1d_tangent_at_a_repeated_point_passes_the_kit():
+    """k = 2.44e8, alpha = 0.68, uy = 0.144 mm, A = 6.6, beta = 0.5, gamma = 0.145, n = 6.1 failed
+    "tangent": at a trial equal to the committed point (u = 20 mm after saturating there) the law
+    returns the unloading side's tangent, 965 MN/m, and the old kit's one-sided difference with
+    h = 1e-6 |u| = 20 nm erred by 1.6e-5 on that strongly curved side (the loading side is
+    alpha k = 166 MN/m; their mean, 565 MN/m, was the central difference it printed). The law was
+    right; the kit now tries smaller steps before it judges (bearingfw.testing, "Kinks")."""
+    from bearingfw.testing.conformance import _derivative_check, check_tangent, make_context
+
+    law = BoucWen(k=2.44e8, alpha=0.68, uy=0.144e-3, A=6.6, beta=0.5, gamma=0.145, n=6.1, dims=1)
+    normal = np.array([1e5])
+    for u_end in (0.0178, 0.02):
+        state = law.respond(law.initial_state(1), np.array([[u_end]]), normal, 0.01).state
+        u = np.array([[u_end]])
+        tangent = law.respond(state, u, normal, 0.01).tangent[0]
+        unloading = (law.A + (law.beta - law.gamma) * law.z_max**law.n) / law.uy  # dz/du leaving saturation
+        expected = law.k * (law.alpha + (1 - law.alpha) * law.uy * unloading)
+        assert tangent[0, 0] == pytest.approx(expected, rel=1e-6)  # about 965 MN/m
+
+        def force(x):
+            return law.respond(state, x.reshape(1, 1), normal, 0.01).force[0]
+
+        assert _derivative_check(force, u[0], tangent, 1e-3, law.k) is None
+        backward = (force(u[0]) - force(u[0] - 1e-10)) / 1e-10
+        assert backward[0] == pytest.approx(tangent[0, 0], rel=1e-4)
+    check_tangent(make_context(law, max_examples=10, max_steps=10, shrink=False))
+
+
+# --- per-bearing parameters -------------------------------------------------------------------
+
+
+def test_declares_per_bearing_and_not_isotropic():
+    assert BoucWen.per_bearing is True and BoucWen.isotropic is False
+    assert all(attrs.fields_dict(BoucWen)[name].metadata["per_bearing"] for name in ("k", "alpha", "uy", "A", "beta", "gamma", "n"))
+
+
+def test_the_park_wen_form_is_not_rotation_invariant():
+    """Why isotropic = False: the same path turned by 30 degrees does not give the turned force."""
+    law = BoucWen(k=1e6, alpha=0.0, uy=1e-3, n=2.0, dims=2)
+    path = law.uy * np.array([[2.0, 0.0], [2.0, 2.0], [0.0, 2.5]])
+    turn = np.array([[np.cos(0.5236), -np.sin(0.5236)], [np.sin(0.5236), np.cos(0.5236)]])
+    forces, _, _ = run(law, path)
+    turned, _, _ = run(law, path @ turn.T)
+    assert np.abs(turned - forces @ turn.T).max() > 1e-3 * law.k * law.uy
+
+
+@pytest.mark.parametrize("dims", [1, 2])
+@pytest.mark.parametrize("exponents", [(2.0, 2.0, 2.0), (2.0, 1.5, 3.0)], ids=["n=2", "mixed n"])
+def test_per_bearing_arrays_equal_separate_laws(dims, exponents):
+    """One law with a value per connector (uy as the reference bridge's preset gives it, and every
+    other parameter too) answers each connector as a law with that connector's values alone."""
+    values = {
+        "k": [4e8, 2e8, 6e8], "alpha": [0.05, 0.0, 0.2], "uy": [2e-4, 1e-3, 5e-4], "A": [1.0, 1.3, 0.8],
+        "beta": [0.5, 0.7, 0.4], "gamma": [0.5, -0.3, 0.1], "n": list(exponents),
+    }  # fmt: skip
+    together = BoucWen(**{name: np.array(v) for name, v in values.items()}, dims=dims)
+    singles = [BoucWen(**{name: v[i] for name, v in values.items()}, dims=dims) for i in range(3)]
+    rng = np.random.default_rng(7 + dims)
+    state, alone = together.initial_state(3), [law.initial_state(1) for law in singles]
+    for _ in range(8):
+        u = state["u"] + rng.normal(size=(3, dims)) * 1e-3 * 10.0 ** rng.uniform(-2.0, 1.0, (3, 1))
+        response = together.respond(state, u, np.full(3, 1e6), 0.01)
+        for i, law in enumerate(singles):
+            single = law.respond(alone[i], u[i : i + 1], np.full(1, 1e6), 0.01)
+            np.testing.assert_allclose(response.force[i], single.force[0], rtol=1e-12, atol=1e-12 * law.k * law.uy)
+            np.testing.assert_allclose(response.tangent[i], single.tangent[0], rtol=1e-9, atol=1e-10 * law.k)
+            alone[i] = single.state
+        state = response.state
+    np.testing.assert_allclose(together.slip(state), np.concatenate([law.slip(s) for law, s in zip(singles, alone)]), rtol=1e-12)
+
+
+def test_a_one_connector_array_is_the_scalar_law_bit_for_bit():
+    scalar = BoucWen(k=4e8, alpha=0.05, uy=2e-4, n=2.0, dims=2)
+    array = BoucWen(k=4e8, alpha=0.05, uy=np.array([2e-4]), n=2.0, dims=2)
+    path = 1e-3 * np.array([[0.3, 0.1], [0.5, -0.4], [-0.2, 0.0]])
+    for a, b in zip(run(scalar, path), run(array, path)):
+        if isinstance(a, np.ndarray):
+            np.testing.assert_array_equal(a, b)
+
+
+def test_per_bearing_errors_name_the_parameter():
+    law = BoucWen(k=4e8, alpha=0.05, uy=np.array([2e-4, 1e-3]), dims=1)
+    with pytest.raises(ParameterError, match=r"parameter 'uy' holds 2 per-bearing values but the law was called for 3"):
+        law.respond(law.initial_state(2) | {"z": np.zeros((3, 1)), "u": np.zeros((3, 1))}, np.zeros((3, 1)), np.ones(3), 0.01)
+    with pytest.raises(ParameterError, match=r"'uy' holds 2 per-bearing values"):
+        law.initial_state(3)
+    with pytest.raises(ParameterError, match=r"one value per connector, all of the same length; got 'k' \(3\), 'uy' \(2\)"):
+        BoucWen(k=np.array([4e8, 4e8, 1e8]), alpha=0.05, uy=np.array([2e-4, 1e-3]))
+    with pytest.raises(ParameterError, match=r"'beta'\[1\] = 0.2 and 'gamma'\[1\] = 0.5 must satisfy beta >= \|gamma\|"):
+        BoucWen(k=4e8, alpha=0.05, uy=1e-3, beta=np.array([0.5, 0.2]), gamma=0.5)
+    with pytest.raises(ParameterError, match=r"'n'\[1\] = 0.5 is outside the allowed range n >= 1"):
+        BoucWen(k=4e8, alpha=0.05, uy=1e-3, n=[2.0, 0.5])
+
+
+@pytest.mark.parametrize("dims", [1, 2])
+def test_per_bearing_laws_pass_the_kit(dims):
+    """The kit's per-bearing property draws values around these per connector (n = 2 and not)."""
+    from bearingfw.testing.conformance import check_per_bearing, make_context
+
+    law = BoucWen(k=4e8, alpha=0.05, uy=1e-3, n=2.0, dims=dims)
+    check_per_bearing(make_context(law, displacement_scale=law.uy / 4, max_examples=10, max_steps=8, shrink=False))

@@ -63,10 +63,17 @@ per call.
 
 Cost. The closed form of n = 2 is one evaluation for any increment (and a second or third
 after an event). Vectorised over connectors it is a few dozen numpy operations, whose cost is
-their per-call overhead on such small arrays; so one connector (the reference bridge gives each
-bearing its own law object) is evaluated with the same formulas in Python floats and complex
-numbers (``_riccati_1d_one``, ``_riccati_2d_one``): about 6 us (1-D) and 12 us (2-D) per call
-against 20 and 60 us with numpy. The tests check that both agree to round-off.
+their per-call overhead on such small arrays; so one connector (a law object serving a single
+bearing) is evaluated with the same formulas in Python floats and complex numbers
+(``_riccati_1d_one``, ``_riccati_2d_one``): about 6 us (1-D) and 12 us (2-D) per call against 20
+and 60 us with numpy. The tests check that both agree to round-off.
+
+Per-bearing parameters (``per_bearing = True``). Every numeric parameter may be an array with one
+value per connector, as the kernel makes them when the bearings of one law differ (the
+reference bridge's ``bouc-wen`` preset gives each its own ``uy``). A call then takes the
+parameters as ``(m, 1)`` columns (:class:`_Values`); connectors with ``n = 2`` go through the
+closed form and the others through the substeps, each group in one vectorised evaluation. With
+scalar parameters the arithmetic is the same as before, operation for operation (Python floats).
 """
 
 from __future__ import annotations
@@ -79,6 +86,47 @@ import attrs
 import numpy as np
 
 import bearingfw
+from bearingfw.parameters import check_per_bearing
+
+
+_NUMERIC = ("k", "alpha", "uy", "A", "beta", "gamma", "n")
+
+
+def _parameter(**options):
+    """A Bouc-Wen parameter: a real number, or one per connector (``per_bearing``)."""
+    return bearingfw.parameter(per_bearing=True, **options)
+
+
+@attrs.frozen
+class _Values:
+    """The law's parameters for the connectors of one call: Python floats when they are the same for
+    all (the arithmetic of a scalar law, unchanged), else ``(m, 1)`` columns for every parameter."""
+
+    k: float | np.ndarray
+    alpha: float | np.ndarray
+    uy: float | np.ndarray
+    A: float | np.ndarray
+    beta: float | np.ndarray
+    gamma: float | np.ndarray
+    n: float | np.ndarray
+
+    @property
+    def scalar(self) -> bool:
+        return isinstance(self.k, float)
+
+    def take(self, rows) -> _Values:
+        """The parameters of the connectors ``rows`` (an index or mask array)."""
+        if self.scalar:
+            return self
+        return _Values(*(getattr(self, name)[rows] for name in _NUMERIC))
+
+    def matrix(self, value):
+        """``value`` shaped to scale ``(m, dims, dims)`` stacks: itself if a float, ``(m, 1, 1)`` if a column."""
+        return value if isinstance(value, float) else value[:, :, None]
+
+    @property
+    def z_max(self):
+        return (self.A / (self.beta + self.gamma)) ** (1.0 / self.n)
 
 
 @attrs.frozen
@@ -89,11 +137,19 @@ class BoucWen:
     at the last committed step (``z`` is driven by the increment from it). The normal force is
     accepted and ignored: this form does not scale with N (a sliding bearing modelled with it
     has a yield force fixed by ``k uy``).
+
+    Every numeric parameter may be one value per connector (``per_bearing``: a 1-D array of the
+    length of the connectors the law serves); connectors with ``n = 2`` are integrated in closed
+    form and the others by substeps, all in one vectorised call. The biaxial Park-Wen form is not
+    isotropic (``isotropic = False``): it depends on the axes of the two shear directions.
     """
 
     name: ClassVar[str] = "bouc-wen"
     rigid: ClassVar[bool] = False
     symmetric: ClassVar[bool] = True
+    per_bearing: ClassVar[bool] = True
+    #: The |du_x z_x| + |du_y z_y| term of the Park-Wen form depends on the axes (module docstring).
+    isotropic: ClassVar[bool] = False
     #: n != 2: substep length times the largest rate |d(dz/du)/dz| over the admissible ball.
     SUBSTEP_RATIO: ClassVar[float] = 0.03
     #: Substeps per call at most: a longer increment is cut into this many equal substeps.
@@ -102,38 +158,51 @@ class BoucWen:
     #: n = 2: an increment shorter than STILL uy leaves z as it is (its effect is relatively that small).
     STILL: ClassVar[float] = 1e-200
 
-    k: float = bearingfw.parameter(
+    k: float = _parameter(
         low=0.0, low_open=True, unit="N/m", doc="elastic stiffness (the initial stiffness when A = 1)", typical=4e8
     )
-    alpha: float = bearingfw.parameter(low=0.0, high=1.0, high_open=True, doc="post-yield to elastic stiffness ratio")
-    uy: float = bearingfw.parameter(low=0.0, low_open=True, unit="m", doc="yield displacement", typical=1e-3)
-    A: float = bearingfw.parameter(low=0.0, low_open=True, default=1.0, doc="hysteretic stiffness factor", typical=1.0)
-    beta: float = bearingfw.parameter(
+    alpha: float = _parameter(low=0.0, high=1.0, high_open=True, doc="post-yield to elastic stiffness ratio")
+    uy: float = _parameter(low=0.0, low_open=True, unit="m", doc="yield displacement", typical=1e-3)
+    A: float = _parameter(low=0.0, low_open=True, default=1.0, doc="hysteretic stiffness factor", typical=1.0)
+    beta: float = _parameter(
         low=0.0, low_open=True, default=0.5, doc="loop shape; beta >= |gamma| and beta + gamma > 0", typical=0.5
     )
-    gamma: float = bearingfw.parameter(default=0.5, doc="loop shape; -beta < gamma <= beta", typical=0.5)
-    n: float = bearingfw.parameter(
+    gamma: float = _parameter(default=0.5, doc="loop shape; -beta < gamma <= beta", typical=0.5)
+    n: float = _parameter(
         low=1.0, default=1.0, doc="smoothness exponent (larger: sharper yield; n = 2 is integrated exactly, fastest)",
         typical=1.0,
     )
     dims: int = bearingfw.dims_parameter()
 
     def __attrs_post_init__(self):
-        # The single-parameter ranges are checked by the fields; these two involve both shape parameters.
-        conditions = [
-            ("beta + gamma > 0 (else z and the force grow without bound)", self.beta + self.gamma > 0),
-            ("beta >= |gamma| (else the law creates energy on some unloading paths)", self.beta >= abs(self.gamma)),
-        ]
-        violated = [condition for condition, holds in conditions if not holds]
-        if violated:
+        lengths = {name: len(getattr(self, name)) for name in _NUMERIC if isinstance(getattr(self, name), np.ndarray)}
+        if len(set(lengths.values())) > 1:
+            listed = ", ".join(f"{name!r} ({length})" for name, length in lengths.items())
             raise bearingfw.ParameterError(
-                f"{self.name}: parameters 'beta' = {self.beta!r} and 'gamma' = {self.gamma!r} must satisfy "
-                f"{' and '.join(violated)}; allowed: -beta < gamma <= beta"
+                f"{self.name}: per-bearing parameters must have one value per connector, all of the same length; "
+                f"got {listed}"
+            )
+        # The single-parameter ranges are checked by the fields; these two involve both shape parameters.
+        beta, gamma = np.asarray(self.beta), np.asarray(self.gamma)
+        conditions = [
+            ("beta + gamma > 0 (else z and the force grow without bound)", beta + gamma > 0),
+            ("beta >= |gamma| (else the law creates energy on some unloading paths)", beta >= np.abs(gamma)),
+        ]
+        violated = [condition for condition, holds in conditions if not np.all(holds)]
+        if violated:
+            if beta.ndim == 0 and gamma.ndim == 0:
+                values = f"'beta' = {self.beta!r} and 'gamma' = {self.gamma!r}"
+            else:  # name the first connector that breaks a condition
+                beta, gamma = np.broadcast_arrays(beta, gamma)
+                bad = int(np.flatnonzero(~((beta + gamma > 0) & (beta >= np.abs(gamma))))[0])
+                values = f"'beta'[{bad}] = {float(beta[bad])!r} and 'gamma'[{bad}] = {float(gamma[bad])!r}"
+            raise bearingfw.ParameterError(
+                f"{self.name}: parameters {values} must satisfy {' and '.join(violated)}; allowed: -beta < gamma <= beta"
             )
 
     @property
-    def z_max(self) -> float:
-        """The bound of ``|z|``, ``(A/(beta+gamma))^(1/n)``.
+    def z_max(self):
+        """The bound of ``|z|``, ``(A/(beta+gamma))^(1/n)`` (an array for per-bearing parameters).
 
         The hysteretic force ``F - alpha k u`` never exceeds ``(1-alpha) k uy z_max`` and tends to it
         on a long monotonic path.
@@ -141,7 +210,7 @@ class BoucWen:
         return (self.A / (self.beta + self.gamma)) ** (1.0 / self.n)
 
     @property
-    def substep(self) -> float:
+    def substep(self):
         """The longest backward-Euler substep (m) for ``n != 2``: ``SUBSTEP_RATIO / lambda``.
 
         ``lambda = n (beta + |gamma|) z_max^(n-1) / uy`` is the largest ``|d(dz/du)/dz|`` of the 1-D law
@@ -151,10 +220,23 @@ class BoucWen:
         1 % of an accurate solution on random paths, as the validation asks), and the Newton matrix within 0.1 of
         the identity (2-D included), so its root in the ball is unique and found in a few iterations.
         """
-        rate = self.n * (self.beta + abs(self.gamma)) * self.z_max ** (self.n - 1.0) / self.uy
+        return self._substep(self._values(None))
+
+    def _substep(self, p: _Values):
+        rate = p.n * (p.beta + abs(p.gamma)) * p.z_max ** (p.n - 1.0) / p.uy
         return self.SUBSTEP_RATIO / rate
 
+    def _values(self, count: int | None) -> _Values:
+        """The parameters for a call with ``count`` connectors (None: as the law holds them)."""
+        values = [getattr(self, name) for name in _NUMERIC]
+        if count is None or not any(isinstance(value, np.ndarray) for value in values):
+            return _Values(*values)
+        if count == 1:  # one connector: the scalar arithmetic, exactly as a law with these values
+            return _Values(*(float(np.asarray(value).reshape(-1)[0]) for value in values))
+        return _Values(*(np.broadcast_to(np.asarray(value, dtype=float), (count,))[:, None] for value in values))
+
     def initial_state(self, n: int) -> dict:
+        check_per_bearing(self, n)
         return {"z": np.zeros((n, self.dims)), "u": np.zeros((n, self.dims))}
 
     def slip(self, state) -> np.ndarray:
@@ -163,10 +245,13 @@ class BoucWen:
         The hysteretic spring has initial stiffness ``(1 - alpha) k A`` and force
         ``(1 - alpha) k uy z``, so its elastic deformation is ``uy z / A``.
         """
-        return state["u"] - self.uy * state["z"] / self.A
+        p = self._values(len(state["u"]))
+        return state["u"] - p.uy * state["z"] / p.A
 
     def respond(self, state, u, normal_force, dt) -> bearingfw.LawResponse:
         u = np.array(u, dtype=float)  # a copy: the state must not alias the caller's array
+        check_per_bearing(self, len(u))
+        p = self._values(len(u))
         du = u - state["u"]
         z = state["z"]
         # The signs of the increment's components, for the derivative of |du_i|: those of du, and
@@ -174,33 +259,44 @@ class BoucWen:
         # stiffer one, like an elastic predictor, and the one the friction law takes there too.
         # In the substep scheme they are the signs of every substep's delta (so that the tangent
         # is the derivative in the direction of motion even where a substep is empty).
-        if self.n == 2.0 and len(du) == 1:
-            # One connector (each bearing of the reference bridge has its own law object): the
-            # closed form in Python floats, as numpy's per-operation overhead would dominate.
-            z, dz_du = self._exact_one(z, du)
+        if p.scalar and p.n == 2.0 and len(du) == 1:
+            # One connector: the closed form in Python floats, as numpy's per-operation overhead
+            # would dominate.
+            z, dz_du = self._exact_one(p, z, du)
         else:
             direction = np.sign(du)
             # The common case: every component moves by more than STILL uy (else sorted out below).
-            moving = np.abs(du).min(initial=np.inf) > self.STILL * self.uy
+            moving = bool(np.all(np.abs(du) > self.STILL * p.uy))
             if not moving:
                 direction = np.where(du != 0, direction, -np.sign(z))
-            if self.n == 2.0:
-                z, dz_du = self._exact(z, du, direction, moving)
-            else:
-                z, dz_du = self._substepped(z, du, direction)
-        hysteretic = (1.0 - self.alpha) * self.k * self.uy
-        if self.alpha == 0.0:
+            if p.scalar:
+                if p.n == 2.0:
+                    z, dz_du = self._exact(p, z, du, direction, moving)
+                else:
+                    z, dz_du = self._substepped(p, z, du, direction)
+            else:  # per connector: n = 2 in closed form, the others by substeps
+                closed = p.n[:, 0] == 2.0
+                z, dz_du = z.copy(), np.empty(z.shape + (self.dims,))
+                if closed.any():
+                    q = p.take(closed)
+                    all_moving = bool(np.all(np.abs(du[closed]) > self.STILL * q.uy))
+                    z[closed], dz_du[closed] = self._exact(q, state["z"][closed], du[closed], direction[closed], all_moving)
+                if not closed.all():
+                    q = p.take(~closed)
+                    z[~closed], dz_du[~closed] = self._substepped(q, state["z"][~closed], du[~closed], direction[~closed])
+        hysteretic = (1.0 - p.alpha) * p.k * p.uy
+        if p.scalar and p.alpha == 0.0:
             force, tangent = hysteretic * z, hysteretic * dz_du
         else:
-            force = self.alpha * self.k * u + hysteretic * z
-            tangent = self.alpha * self.k * np.eye(self.dims) + hysteretic * dz_du
+            force = p.alpha * p.k * u + hysteretic * z
+            tangent = p.matrix(p.alpha * p.k) * np.eye(self.dims) + p.matrix(hysteretic) * dz_du
         # An increment with nothing to do hands z0 back: never share an array with the old state.
         z = z.copy() if z is state["z"] else z
         return bearingfw.LawResponse(force, tangent, {"z": z, "u": u})
 
-    def _exact_one(self, z0, du):
+    def _exact_one(self, p: _Values, z0, du):
         """:meth:`_exact` for one connector, in Python floats (the same operations, the same results)."""
-        A, beta, gamma, uy = self.A, self.beta, self.gamma, self.uy
+        A, beta, gamma, uy = p.A, p.beta, p.gamma, p.uy
         z, d = z0[0].tolist(), du[0].tolist()
         direction = [(1.0 if di > 0 else -1.0) if di != 0 else -_sign(zi) for zi, di in zip(z, d, strict=True)]
         if self.dims == 1:
@@ -216,17 +312,17 @@ class BoucWen:
         tangent = [[z[i] * slope[j] + (A / uy if i == j else 0.0) for j in range(2)] for i in range(2)]
         return z0, np.array([tangent])
 
-    def _substepped(self, z, du, direction):
+    def _substepped(self, p: _Values, z, du, direction):
         """``z`` at the end of ``du`` and ``dz/du`` by backward-Euler substeps (any ``n``)."""
         # dz/du so far, chain-ruled through the substeps; the committed z does not depend on u.
         dz_du = np.zeros(z.shape + (self.dims,))
-        for delta, d_delta in self._substeps(du):
-            z, newton_matrix = self._backward_euler(z, delta)
+        for delta, d_delta in self._substeps(p, du):
+            z, newton_matrix = self._backward_euler(p, z, delta)
             # Differentiate z1 - z0 - Phi(z1, delta)/uy = 0:  (I - dPhi/dz) dz1 = dz0 + dPhi/ddelta ddelta.
-            dz_du = _solve(newton_matrix, dz_du + self._flow_delta_derivative(z, direction) @ d_delta)
+            dz_du = _solve(newton_matrix, dz_du + self._flow_delta_derivative(p, z, direction) @ d_delta)
         return z, dz_du
 
-    def _exact(self, z0, du, direction, moving):
+    def _exact(self, p: _Values, z0, du, direction, moving):
         """``z`` at the end of ``du`` and ``dz/du`` for ``n = 2``, in closed form (module docstring).
 
         ``moving``: True if every component of ``du`` exceeds ``STILL uy``. Connectors that move by
@@ -234,20 +330,21 @@ class BoucWen:
         at ``z0`` in the direction of ``direction``: the limit of the moving case, from which they
         differ by about ``STILL`` relative (and the complex step would underflow below it).
         """
-        args = (direction, self.A, self.beta, self.gamma, self.uy)
         integrate = _riccati_1d if self.dims == 1 else _riccati_2d
         if moving:
-            return integrate(z0, du, *args)
-        moving = _norm(du)[:, 0] > self.STILL * self.uy
+            return integrate(z0, du, direction, p.A, p.beta, p.gamma, p.uy)
+        still = self.STILL * p.uy
+        moving = _norm(du)[:, 0] > (still if p.scalar else still[:, 0])
         # dPhi/ddelta / uy at z0 = (A I - z0 (beta |z0| direction + gamma z0)^T) / uy for n = 2
-        slope = (self.beta * np.abs(z0) * direction + self.gamma * z0) / -self.uy
-        z, dz_du = z0, z0[:, :, None] * slope[:, None, :] + (self.A / self.uy) * np.eye(self.dims)
+        slope = (p.beta * np.abs(z0) * direction + p.gamma * z0) / -p.uy
+        z, dz_du = z0, z0[:, :, None] * slope[:, None, :] + p.matrix(p.A / p.uy) * np.eye(self.dims)
         if moving.any():  # else nothing moves (the first evaluation of a time step, typically)
             z = z0.copy()
-            z[moving], dz_du[moving] = integrate(z0[moving], du[moving], direction[moving], *args[1:])
+            q = p.take(moving)
+            z[moving], dz_du[moving] = integrate(z0[moving], du[moving], direction[moving], q.A, q.beta, q.gamma, q.uy)
         return z, dz_du
 
-    def _substeps(self, du):
+    def _substeps(self, p: _Values, du):
         """Yield ``(delta, d delta / d du)`` per substep, ``(n, dims)`` and ``(n, dims, dims)``.
 
         Full substeps of length ``s = max(h, |du| / MAX_SUBSTEPS)`` along ``e = du/|du|``, then the
@@ -259,9 +356,10 @@ class BoucWen:
         Connectors that need fewer substeps get empty ones, which leave ``z`` unchanged.
         """
         eye = np.eye(self.dims)
-        h = self.substep
+        h = self._substep(p)
+        h = h if p.scalar else h[:, 0]
         length = _norm(du)[:, 0]
-        if length.max(initial=0.0) < h:  # the common case of a short increment: one step
+        if np.all(length < h):  # the common case of a short increment: one step
             yield du, np.broadcast_to(eye, du.shape + (self.dims,))
             return
         safe_length = np.where(length > 0, length, 1.0)
@@ -281,25 +379,33 @@ class BoucWen:
             delta = is_full * full_step + is_last * remainder
             yield delta, is_full[:, :, None] * d_full + is_last[:, :, None] * d_remainder
 
-    def _backward_euler(self, z0, delta):
+    def _backward_euler(self, p: _Values, z0, delta):
         """Solve ``R(z) = z - z0 - Phi(z, delta)/uy = 0`` by Newton; return ``z`` and ``dR/dz`` there.
 
         Iterates are kept in the ball ``|z| <= z_max``: the root lies in it, so pulling an iterate
         back radially only brings it closer (and keeps ``|z|^n`` finite for large n). Converged
         when the residual is at round-off level, so the returned matrix is the exact ``dR/dz`` at
-        the returned ``z``.
+        the returned ``z``. Each connector keeps the iterate at which it converged (the others
+        iterate on): a connector's answer does not depend on the connectors it is called with.
         """
-        z_max = self.z_max
+        z_max = p.z_max
         eye = np.eye(self.dims)
         # Round-off of R is about eps (|z| + |A delta / uy|): stop well above it, per connector.
-        tolerance = 1e-13 * (z_max + self.A * np.abs(delta) / self.uy)
+        tolerance = 1e-13 * (z_max + p.A * np.abs(delta) / p.uy)
         z = z0
+        result, matrix = np.empty_like(z0), np.empty(z0.shape + (self.dims,))
+        pending = np.ones(len(z0), dtype=bool)
         for _ in range(self.MAX_NEWTON_ITERATIONS):
-            flow, flow_z = self._flow(z, delta)
+            flow, flow_z = self._flow(p, z, delta)
             residual = z - z0 - flow
             newton_matrix = eye - flow_z
-            if np.all(np.abs(residual) <= tolerance):
+            converged = pending & np.all(np.abs(residual) <= tolerance, axis=1)
+            if converged.all():  # one connector, or all at once: as they are
                 return z, newton_matrix
+            result[converged], matrix[converged] = z[converged], newton_matrix[converged]
+            pending &= ~converged
+            if not pending.any():
+                return result, matrix
             z = z - _solve(newton_matrix, residual[:, :, None])[:, :, 0]
             if self.dims == 1:
                 z = np.clip(z, -z_max, z_max)
@@ -311,7 +417,7 @@ class BoucWen:
             f"in {self.MAX_NEWTON_ITERATIONS} iterations"
         )
 
-    def _flow(self, z, delta):
+    def _flow(self, p: _Values, z, delta):
         """``Phi(z, delta)/uy`` and its derivative in ``z``, all connectors at once.
 
         With ``q = beta sum_i |delta_i z_i| + gamma z . delta`` and ``r = |z|``,
@@ -326,21 +432,21 @@ class BoucWen:
         ``n |z|^(n-1) q_hat``, evaluated in that closed form: guided bearings are the common case.
         """
         if self.dims == 1:
-            c = np.abs(z) ** (self.n - 1.0) * (self.beta * np.abs(delta) + self.gamma * delta * np.sign(z))
-            return (self.A * delta - c * z) / self.uy, (c * (self.n / -self.uy))[:, :, None]
+            c = np.abs(z) ** (p.n - 1.0) * (p.beta * np.abs(delta) + p.gamma * delta * np.sign(z))
+            return (p.A * delta - c * z) / p.uy, (c * (p.n / -p.uy))[:, :, None]
         r = _norm(z)
         z_hat = z / np.where(r > 0, r, 1.0)  # 0 at z = 0
-        r_n1 = r ** (self.n - 1.0)
+        r_n1 = r ** (p.n - 1.0)
         abs_delta = np.abs(delta)
-        q_hat = (self.beta * abs_delta * np.abs(z_hat) + self.gamma * z_hat * delta).sum(axis=1)[:, None]
+        q_hat = (p.beta * abs_delta * np.abs(z_hat) + p.gamma * z_hat * delta).sum(axis=1)[:, None]
         c = r_n1 * q_hat
-        flow = (self.A * delta - c * z) / self.uy
-        dq_dz = self.beta * abs_delta * np.sign(z) + self.gamma * delta
+        flow = (p.A * delta - c * z) / p.uy
+        dq_dz = p.beta * abs_delta * np.sign(z) + p.gamma * delta
         dw_dz = c[:, :, None] * np.eye(self.dims)
-        dw_dz += (r_n1 * z_hat)[:, :, None] * ((self.n - 2.0) * q_hat * z_hat + dq_dz)[:, None, :]
-        return flow, dw_dz / -self.uy
+        dw_dz += (r_n1 * z_hat)[:, :, None] * ((p.n - 2.0) * q_hat * z_hat + dq_dz)[:, None, :]
+        return flow, dw_dz / p.matrix(-p.uy)
 
-    def _flow_delta_derivative(self, z, direction):
+    def _flow_delta_derivative(self, p: _Values, z, direction):
         """``d(Phi/uy)/d delta = (A I - r^(n-1) z_hat (beta |z| sgn(delta) + gamma z)^T) / uy``.
 
         ``sgn(delta)`` is taken as ``direction``, the signs of the whole increment (see respond).
@@ -348,13 +454,13 @@ class BoucWen:
         """
         if self.dims == 1:
             abs_z = np.abs(z)
-            slope = self.A - abs_z ** (self.n - 1.0) * (self.beta * z * direction + self.gamma * abs_z)
-            return (slope / self.uy)[:, :, None]
+            slope = p.A - abs_z ** (p.n - 1.0) * (p.beta * z * direction + p.gamma * abs_z)
+            return (slope / p.uy)[:, :, None]
         r = _norm(z)
         z_hat = z / np.where(r > 0, r, 1.0)
-        dq_ddelta = self.beta * np.abs(z) * direction + self.gamma * z
-        dw_ddelta = (r ** (self.n - 1.0) * z_hat)[:, :, None] * dq_ddelta[:, None, :]
-        return (self.A * np.eye(self.dims) - dw_ddelta) / self.uy
+        dq_ddelta = p.beta * np.abs(z) * direction + p.gamma * z
+        dw_ddelta = (r ** (p.n - 1.0) * z_hat)[:, :, None] * dq_ddelta[:, None, :]
+        return (p.matrix(p.A) * np.eye(self.dims) - dw_ddelta) / p.matrix(p.uy)
 
 
 def _riccati_1d(z0, du, direction, A, beta, gamma, uy):
@@ -372,7 +478,15 @@ def _riccati_1d(z0, du, direction, A, beta, gamma, uy):
     unloading = zeta < 0
     if unloading.any():
         b = beta - gamma
-        if b > 0:
+        if isinstance(b, np.ndarray):  # per-bearing parameters: both cases, chosen per connector
+            linear = b <= 0
+            s, kappa = np.sqrt(np.where(linear, 1.0, b / A)), np.sqrt(np.where(linear, 1.0, A * b))
+            angle = np.arctan(s * zeta) + kappa * t
+            left = zeta + A * t
+            zeta_end = np.where(linear, np.minimum(left, 0.0), np.tan(np.minimum(angle, 0.0)) / s)
+            t_left = np.where(linear, np.maximum(left, 0.0) / A, np.maximum(angle, 0.0) / kappa)
+            zeta, t = np.where(unloading, zeta_end, zeta), np.where(unloading, t_left, t)
+        elif b > 0:
             s, kappa = math.sqrt(b / A), math.sqrt(A * b)
             angle = np.arctan(s * zeta) + kappa * t  # zeta reaches 0 where the angle does
             zeta = np.where(unloading, np.tan(np.minimum(angle, 0.0)) / s, zeta)
@@ -381,8 +495,8 @@ def _riccati_1d(z0, du, direction, A, beta, gamma, uy):
             left = zeta + A * t  # the distance left after zeta reaches 0, times A
             zeta = np.where(unloading, np.minimum(left, 0.0), zeta)
             t = np.where(unloading, np.maximum(left, 0.0) / A, t)
-    z_max = math.sqrt(A / (beta + gamma))
-    rise = np.tanh(math.sqrt(A * (beta + gamma)) * t)
+    z_max = _sqrt(A / (beta + gamma))
+    rise = np.tanh(_sqrt(A * (beta + gamma)) * t)
     zeta = (zeta + z_max * rise) / (1.0 + rise * zeta / z_max)
     # F(z1) / uy, with z1 = direction zeta1: (A - |zeta| (beta zeta + gamma |zeta|)) / uy
     abs_zeta = np.abs(zeta)
@@ -413,19 +527,21 @@ def _riccati_2d(z0, du, direction, A, beta, gamma, uy):
     if crossed is not None:  # rare: a component of z changes sign within the increment
         z, w = z.copy(), w.copy()
         za, t_left, q, c = z0[crossed], t[crossed], q[crossed], c[crossed]
+        A_c, beta_c, gamma_c = (_rows(value, crossed) for value in (A, beta, gamma))
         for _ in range(2):  # each component crosses at most once
             e_c, e_step_c, direction_c = e[crossed], e_step[crossed], direction[crossed]
-            first, t_first = _first_crossing(za.real, e_c, q.real, c.real, t_left, A)
-            za = _segment(za, e_c, e_step_c, q, c, t_first, A, check=False)[0]
+            first, t_first = _first_crossing(za.real, e_c, q.real, c.real, t_left, A_c)
+            za = _segment(za, e_c, e_step_c, q, c, t_first, A_c, check=False)[0]
             hit = np.flatnonzero(first >= 0)
             za.real[hit, first[hit]] = 0.0  # exactly on the switching line
             t_left = t_left - t_first
-            w_c, q, c = _coefficients(za, e_step_c, direction_c, A, beta, gamma)
-            z_c, again = _segment(za, e_c, e_step_c, q, c, t_left, A)
+            w_c, q, c = _coefficients(za, e_step_c, direction_c, A_c, beta_c, gamma_c)
+            z_c, again = _segment(za, e_c, e_step_c, q, c, t_left, A_c)
             z[crossed], w[crossed] = z_c, w_c
             if again is None:
                 break
             crossed, za, t_left, q, c = crossed[again], za[again], t_left[again], q[again], c[again]
+            A_c, beta_c, gamma_c = (_rows(value, again) for value in (A_c, beta_c, gamma_c))
     z_end = z.real
     # F(z1)/uy = (A e - (w . z1) z1)/uy, with the last segment's signs (F is continuous across them).
     along = (A / uy) * e - (w.real * z_end).sum(axis=1, keepdims=True) * (z_end / uy)
@@ -492,6 +608,16 @@ def _first_crossing(z, e, q, c, t, A):
     t_first = t_cross[np.arange(len(first)), first][:, None]
     # A flag without a crossing (round-off at a component ending exactly at 0): no component.
     return np.where(np.isfinite(t_first[:, 0]), first, -1), np.minimum(t_first, t)
+
+
+def _sqrt(x):
+    """``math.sqrt`` for a float (a scalar law's arithmetic, unchanged), ``np.sqrt`` for per-bearing columns."""
+    return math.sqrt(x) if isinstance(x, float) else np.sqrt(x)
+
+
+def _rows(value, rows):
+    """A parameter for some connectors: a float as it is, a per-bearing column at ``rows``."""
+    return value[rows] if isinstance(value, np.ndarray) else value
 
 
 _ROTATE = np.array([-1.0, 1.0])  # (e_y, e_x) * _ROTATE: e turned by +90 degrees

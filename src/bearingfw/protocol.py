@@ -13,6 +13,14 @@ Shapes (``n`` connectors governed by one law object, ``dims`` shear directions e
 - ``force``: resisting force, ``(n, dims)``: a linear spring returns ``+k * u``;
 - ``tangent``: the algorithmic (consistent) tangent d force / d u, ``(n, dims, dims)``.
 
+Arguments of other shapes are refused, never broadcast into an answer: ``respond`` raises
+:class:`bearingfw.ParameterError` naming the law, the argument, the shape expected and the one
+given, and likewise for a ``normal_force`` that is NaN or infinite (a friction law would read NaN
+as "no sliding" and stick). A NaN or infinite ``u`` may propagate instead, to a non-finite force,
+which the kernel's step control detects. The built-in laws do both checks with
+:func:`bearingfw.laws.respond_inputs` (shape comparisons and one sum over the normal forces, a
+few microseconds per call); a plugin's law can call it too.
+
 Optional members that tools use when present:
 
 - ``symmetric`` (bool, default True): the response is odd in ``u``; the conformance suite

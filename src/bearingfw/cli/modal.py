@@ -4,7 +4,6 @@ models (default), or a user's structure (``--structure module:function`` with ``
 from __future__ import annotations
 
 import json
-import sys
 
 from bearingfw.parameters import ParameterError
 
@@ -73,7 +72,8 @@ def modal_data(
 
     given = _reference_options(model, ks, options)
     if given.get("preset", "M0") not in PRESETS:
-        raise ParameterError(f"--model must be one of {', '.join(PRESETS)}, got {given['preset']!r}")
+        flag = "--model" if model is not None else "--option preset"
+        raise ParameterError(f"{flag} must be one of {', '.join(PRESETS)}, got {given['preset']!r}")
     model, ks, friction, params = reference_parameters(given)
     if not (isinstance(n_modes, int) and n_modes >= 1):
         raise ParameterError(f"--modes must be an integer >= 1, got {n_modes!r}")
@@ -81,19 +81,9 @@ def modal_data(
     seen = observed_modes(modal, deck_observation(params))
     deck_label = {m: lab for lab, m in seen.numbered.items()}
     paper = {mode: seen.numbered[mode] for mode in MODES if mode in seen.numbered}
-    total = {d: modal.total_mass[d] for d in ("x", "y", "z")}
-    modes = []
-    for m in range(modal.n_modes):
-        modes.append(
-            {
-                "index": m + 1,
-                "frequency": float(modal.frequencies[m]),
-                "label": modal.numbered_labels[m],
-                "deck_share": float(seen.share[m]),
-                "deck_label": deck_label.get(m),
-                "participation": {d: float(modal.effective_mass[d][m] / total[d]) if total[d] else 0.0 for d in total},
-            }
-        )
+    modes = _mode_entries(modal)
+    for m, entry in enumerate(modes):
+        entry.update(deck_share=float(seen.share[m]), deck_label=deck_label.get(m))
     data = {
         "structure": "reference",
         "options": {k: v for k, v in given.items() if k not in ("preset", "ks")},
@@ -108,13 +98,30 @@ def modal_data(
     return data, modal
 
 
-def structure_modal_data(spec: str, options: dict | None = None, n_modes: int = 20, base_dir=None) -> tuple[dict, object]:
+def _mode_entries(modal) -> list[dict]:
+    """Per mode: index, frequency, the kernel's numbered label and the effective mass shares in x, y, z."""
+    total = {d: modal.total_mass[d] for d in ("x", "y", "z")}
+    return [
+        {
+            "index": m + 1,
+            "frequency": float(modal.frequencies[m]),
+            "label": modal.numbered_labels[m],
+            "participation": {d: float(modal.effective_mass[d][m] / total[d]) if total[d] else 0.0 for d in total},
+        }
+        for m in range(modal.n_modes)
+    ]
+
+
+def structure_modal_data(
+    spec: str, options: dict | None = None, n_modes: int = 20, base_dir=None, origins: dict | None = None
+) -> tuple[dict, object]:
     """The ``--json`` object and the modal result of a user's structure (:mod:`bearingfw.structures`).
 
     Per mode: frequency, the kernel's label (the largest kinetic-energy share among vertical,
     lateral, longitudinal, torsional, with x along the bridge and z up), the dominant component
     (the largest share of the kinetic energy among ux .. rz) and the effective mass shares in x, y, z
-    (of all the mass; ``effective_mass`` in kg).
+    (of all the mass; ``effective_mass`` in kg). ``origins``: how the user gave each option, for
+    messages (:func:`bearingfw.structures.build_structure`).
     """
     import numpy as np
 
@@ -124,24 +131,19 @@ def structure_modal_data(spec: str, options: dict | None = None, n_modes: int = 
 
     if not (isinstance(n_modes, int) and n_modes >= 1):
         raise ParameterError(f"--modes must be an integer >= 1, got {n_modes!r}")
-    model = build_structure(spec, options or {}, base_dir=base_dir)
+    # check: a value the bearing laws refuse is an error here, put on the option that gave it
+    model = build_structure(spec, options or {}, base_dir=base_dir, check=True, origins=origins)
     modal = solve_modal(model, n_modes)
     energy = modal.shapes * (modal.system.M @ modal.shapes)
     per_component = np.array([energy[k::len(COMPONENTS)].sum(axis=0) for k in range(len(COMPONENTS))])
     per_component /= np.where(per_component.sum(axis=0) > 0, per_component.sum(axis=0), 1.0)
     total = {d: modal.total_mass[d] for d in ("x", "y", "z")}
-    modes = []
-    for m in range(modal.n_modes):
-        modes.append(
-            {
-                "index": m + 1,
-                "frequency": float(modal.frequencies[m]),
-                "label": modal.numbered_labels[m],
-                "dominant": COMPONENTS[int(np.argmax(per_component[:, m]))],
-                "energy": {c: float(per_component[k, m]) for k, c in enumerate(COMPONENTS)},
-                "participation": {d: float(modal.effective_mass[d][m] / total[d]) if total[d] else 0.0 for d in total},
-                "effective_mass": {d: float(modal.effective_mass[d][m]) for d in total},
-            }
+    modes = _mode_entries(modal)
+    for m, entry in enumerate(modes):
+        entry.update(
+            dominant=COMPONENTS[int(np.argmax(per_component[:, m]))],
+            energy={c: float(per_component[k, m]) for k, c in enumerate(COMPONENTS)},
+            effective_mass={d: float(modal.effective_mass[d][m]) for d in total},
         )
     data = {
         "structure": spec,
@@ -207,25 +209,22 @@ def _print_structure(data: dict) -> None:
 
 
 def run(args) -> int:
-    from bearingfw.structures import REFERENCE, parse_options
+    from bearingfw.structures import REFERENCE, option_origins, parse_options
 
+    # Errors propagate: bearingfw.cli.main gives each its message and exit status.
     user = args.structure is not None and args.structure != REFERENCE
-    try:
-        options = parse_options(args.option)
-        if user:
-            if args.model is not None or args.ks is not None:
-                raise ParameterError(
-                    "--model and --ks choose the reference bridge's bearing model; your structure's function sets "
-                    "its bearings' laws (give it options with --option key=value)"
-                )
-            data, modal = structure_modal_data(args.structure, options, args.modes)
-            written = _plot_structure(modal, data, args.plot) if args.plot else []
-        else:
-            data, modal = modal_data(args.model, args.ks, args.modes, options)
-            written = _plot(modal, data, args.plot) if args.plot else []
-    except (ParameterError, OSError) as exc:
-        print(f"bearingfw modal: error: {exc}", file=sys.stderr)
-        return 1
+    options = parse_options(args.option)
+    if user:
+        if args.model is not None or args.ks is not None:
+            raise ParameterError(
+                "--model and --ks choose the reference bridge's bearing model; your structure's function sets "
+                "its bearings' laws (give it options with --option key=value)"
+            )
+        data, modal = structure_modal_data(args.structure, options, args.modes, origins=option_origins(args.option))
+        written = _plot_structure(modal, data, args.plot) if args.plot else []
+    else:
+        data, modal = modal_data(args.model, args.ks, args.modes, options)
+        written = _plot(modal, data, args.plot) if args.plot else []
     if args.json:
         if written:
             data["figures"] = [str(p) for p in written]

@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import sys
 
 from bearingfw.parameters import ParameterError
 
@@ -376,33 +375,28 @@ def _print_decays(data: dict) -> None:
 
 
 def run(args) -> int:
-    from bearingfw.motion import RecordFormatError, UnknownReaderError
-
+    # Errors propagate: bearingfw.cli.main gives each its message and exit status.
     written = []
-    try:
-        if args.decay:
-            data, fits, channels = decay_data(args)
-            if args.plot:
-                from bearingfw.oma.plot import plot_decay
-                from bearingfw.plotting import save
+    if args.decay:
+        data, fits, channels = decay_data(args)
+        if args.plot:
+            from bearingfw.oma.plot import plot_decay
+            from bearingfw.plotting import save
 
-                for frequency, name, fit in fits:
-                    stem = f"decay-{frequency:g}Hz-{name}".replace("/", "_")
-                    written += save(plot_decay(fit, channels.dt, name, channels.synthetic), args.plot, stem)
-        else:
-            data, result, channels = identify_data(args)
-            if args.output:
-                from bearingfw.oma import write_modes
+            for frequency, name, fit in fits:
+                stem = f"decay-{frequency:g}Hz-{name}".replace("/", "_")
+                written += save(plot_decay(fit, channels.dt, name, channels.synthetic), args.plot, stem)
+    else:
+        data, result, channels = identify_data(args)
+        if args.output:
+            from bearingfw.oma import write_modes
 
-                written.append(write_modes(result.modes, args.output))
-            if args.plot:
-                from bearingfw.oma.plot import plot_stabilisation
-                from bearingfw.plotting import save
+            written.append(write_modes(result.modes, args.output))
+        if args.plot:
+            from bearingfw.oma.plot import plot_stabilisation
+            from bearingfw.plotting import save
 
-                written += save(plot_stabilisation(result), args.plot, "stabilisation")
-    except (ParameterError, OSError, RecordFormatError, UnknownReaderError) as exc:
-        print(f"bearingfw oma: error: {exc}", file=sys.stderr)
-        return 1
+            written += save(plot_stabilisation(result), args.plot, "stabilisation")
     if args.json:
         if written:
             data["files"] = [str(p) for p in written]

@@ -119,10 +119,12 @@ def _with_description(item: dict) -> str:
 
 
 def run(args) -> int:
+    """Exit status 1 when a plugin failed to load (the listing says which), else 0."""
     data = listing()
+    status = 1 if data["broken"] else 0
     if args.json:
         print(json.dumps(data, indent=2, default=str))
-        return 0
+        return status
     _print_table("Bearing laws:", "law", data["laws"], [
         ("flags", lambda law: _format_flags(law["flags"])),
         ("parameters", lambda law: "; ".join(_format_parameter(p) for p in law["parameters"]) or "-"),
@@ -144,4 +146,4 @@ def run(args) -> int:
         print("\nBroken plugins (not loaded):")
         for b in data["broken"]:
             print(f"  {b['plugin']} ({b['distribution'] or 'unknown distribution'}): {b['error']}")
-    return 0
+    return status

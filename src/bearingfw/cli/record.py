@@ -4,12 +4,9 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
 import textwrap
 
 from bearingfw.parameters import ParameterError
-
-_ERRORS = (ParameterError, OSError)  # extended with the motion errors on first use
 
 
 def add_parser(subparsers) -> None:
@@ -285,31 +282,26 @@ def _print_table(data: dict) -> None:
 def run_info(args) -> int:
     from bearingfw import motion
 
-    errors = (*_ERRORS, motion.RecordFormatError, motion.UnknownReaderError, motion.UnknownScaleError,
-              motion.IntensityMismatchError)  # VerticalComponentError is a RecordFormatError
-    try:
-        if args.level and args.target:
-            raise ParameterError("give either --level or --target, not both (--target D_II is --level D_II)")
-        periods = _periods(args.period)
-        record = _load(args)
-        scale = motion.get_scale(args.scale)
-        levels = _levels(args)
-        if args.level:
-            record = motion.scale_to_level(record, args.level, levels=levels, scale=scale)
-        elif args.target:
-            target = motion.parse_target(args.target, levels)
-            if target.needs_period:
-                raise ParameterError(f"--target {args.target}: T1 is a structure's first mode; give the period in s")
-            record = motion.scale_record(record, target, scale)
-        data = info_data(record, scale, levels, periods)
-        written = []
-        if args.plot:
-            from bearingfw.motion.plot import write_figures
+    # Errors propagate: bearingfw.cli.main gives each its message and exit status.
+    if args.level and args.target:
+        raise ParameterError("give either --level or --target, not both (--target D_II is --level D_II)")
+    periods = _periods(args.period)
+    record = _load(args)
+    scale = motion.get_scale(args.scale)
+    levels = _levels(args)
+    if args.level:
+        record = motion.scale_to_level(record, args.level, levels=levels, scale=scale)
+    elif args.target:
+        target = motion.parse_target(args.target, levels)
+        if target.needs_period:
+            raise ParameterError(f"--target {args.target}: T1 is a structure's first mode; give the period in s")
+        record = motion.scale_record(record, target, scale)
+    data = info_data(record, scale, levels, periods)
+    written = []
+    if args.plot:
+        from bearingfw.motion.plot import write_figures
 
-            written = write_figures(record, args.plot, scale=scale, marks=periods)
-    except errors as exc:
-        print(f"bearingfw record info: error: {exc}", file=sys.stderr)
-        return 1
+        written = write_figures(record, args.plot, scale=scale, marks=periods)
     if args.json:
         if written:
             data["figures"] = [str(p) for p in written]

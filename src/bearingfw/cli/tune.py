@@ -16,7 +16,6 @@ measured-modes file of :mod:`bearingfw.tuning.measured` (the format is in :data:
 from __future__ import annotations
 
 import json
-import sys
 
 from bearingfw.parameters import ParameterError
 
@@ -30,6 +29,9 @@ your structure:
   positive one) within their bounds, searched in log(p) when LOW > 0. --option fixes other keywords.
   Reported: the frequencies before (at START) and after with their errors, the MAC of each pair and
   the MAC table (measured x paired computed shapes), and the sensitivities d ln f / d ln p at the optimum.
+  A parameter the function declares an int cannot be calibrated (fix it with --option). Without
+  --structure, the reference bridge: --param ks=LOW:HIGH needs a bearing model with K_s, e.g.
+  --option preset=M1 (linear springs; the default M0 has none and is refused).
 
 the measured-modes file (--measured): the output of 'bearingfw oma --json' / --output, or TOML
 (.toml) or JSON (any other name) written by hand:
@@ -40,13 +42,14 @@ the measured-modes file (--measured): the output of 'bearingfw oma --json' / --o
   name = "first bending"       # optional (default: the label, else "mode <k>")
   frequency = 2.55             # Hz, required
   label = "vertical 1"         # optional: the k-th computed mode with that label
-  damping = 0.021              # optional damping ratio (reported)
+  damping = 0.021              # optional damping ratio, 0 <= damping < 1 (reported)
   shape = { "G4.uz" = 1.0, "G12.uz" = -0.98, "G4.ux" = 0.02 }   # optional: at "<node>.<component>"
 
   Every mode with a shape (at the same channels): paired by MAC there, one-to-one, and modes whose
   best MAC stays below --min-mac are left out and named. Otherwise every mode with a label (vertical,
-  lateral, longitudinal, torsional and k, as 'bearingfw modal --structure' labels the modes): paired
-  by label. Never by index.
+  lateral, longitudinal, torsional and k, as 'bearingfw modal --structure' labels the modes; each
+  label once): paired by label. Never by index. Frequencies in Hz (a fit that stays more than 10 %
+  off is warned about: rad/s is 6.28 times Hz).
 """
 
 
@@ -168,12 +171,12 @@ def _print_measured(data: dict) -> None:
     print(f"  scan: {len(grid)} values of K_s from {grid[0]:.0e} to {grid[-1]:.0e} N/m (with eq. 11's); "
           f"the best, {data['ks_start'] / 1e6:.0f} MN/m, starts the least squares")
     print(f"  least squares: K_s = {data['ks_fit'] / 1e6:.1f} MN/m   "
-          f"({cal['evaluations']} modal analyses, {cal['message']})")
-    print(f"  {'mode':<10}{'measured':>10}{'before':>9}{'error':>8}{'after':>9}{'error':>8}{'MAC':>6}  "
+          f"({_analyses(cal['evaluations'])}, {cal['message']})")
+    print(f"  {'mode':<10}{'measured':>10}{'before':>9}{'error':>8}{'after':>9}{'error':>8}{'MAC':>7}  "
           f"{'paired with':<14}{'dlnf/dlnKs':>10}")
     for name in data["measured"]:
         print(f"  {name:<10}{data['measured'][name]:10.4f}{data['before'][name]:9.4f}{data['error_before'][name]:8.2%}"
-              f"{data['after'][name]:9.4f}{data['error_after'][name]:8.2%}{data['mac_after'][name]:6.2f}  "
+              f"{data['after'][name]:9.4f}{data['error_after'][name]:8.2%}{data['mac_after'][name]:7.3f}  "
               f"{data['label_after'][name]:<14}{data['sensitivity'][name]:10.4f}")
     print("  (Hz; before: the untuned model M0; after: M1 with the fitted K_s; paired by MAC at the sensor channels; "
           "dlnf/dlnKs at the fitted K_s: a frequency error e moves K_s by about e / dlnf/dlnKs)")
@@ -194,19 +197,20 @@ def _print(data: dict) -> None:
           f"(measured) -> K_s = {data['ks_eq11'] / 1e6:.0f} MN/m   (paper: {paper['ks_eq11'] / 1e6:.0f} MN/m)")
     cal = data["calibration"]
     print(f"  least squares: K_s = {data['ks_fit'] / 1e6:.0f} MN/m   (paper: {paper['ks_fit'] / 1e6:.0f} MN/m; "
-          f"{cal['evaluations']} modal analyses, {cal['message']})")
+          f"{_analyses(cal['evaluations'])}, {cal['message']})")
     print(f"  {'mode':<12}{'measured':>10}{'before':>9}{'error':>8}{'after':>9}{'error':>8}{'paper tuned':>13}")
     for name in data["measured"]:
         print(f"  {name:<12}{data['measured'][name]:10.2f}{data['before'][name]:9.3f}{data['error_before'][name]:8.1%}"
               f"{data['after'][name]:9.3f}{data['error_after'][name]:8.1%}{paper['tuned'][name]:13.2f}")
     print("  (Hz; before: the untuned model M0; after: M1 with the fitted K_s, starting from the eq. 11 estimate)")
     names = list(data["measured"])
-    for title, table in (("MAC before/after", cal["mac_before_after"]), ("AutoMAC after", cal["automac_after"])):
+    tables = (("MAC at eq. 11's K_s / after", cal["mac_start_after"]), ("AutoMAC after", cal["automac_after"]))
+    for title, table in tables:
         if table is None:
             continue
         print(f"  {title} (deck):")
         for name, row in zip(names, table, strict=True):
-            print(f"    {name:<12}" + " ".join(f"{v:5.2f}" for v in row))
+            print(f"    {name:<12}" + " ".join(f"{v:6.3f}" for v in row))
     damping = data["damping"]
     for d, r in zip(damping["decrements"], damping["ratios"], strict=True):
         print(f"  damping at {d['frequency']:.2f} Hz: log decrement {d['decrement']:.2f} -> ratio {r['ratio']:.2%}")
@@ -216,11 +220,19 @@ def _print(data: dict) -> None:
     print(f"Step 2: 'bearingfw modal --model M2 --ks {data['ks_fit']:.4g}' (regularized Coulomb, mu = 0.04)")
 
 
-def parse_param(text: str, keywords: dict | None = None) -> tuple[str, tuple[float, float, float]]:
+def _analyses(count: int) -> str:
+    return f"{count} modal analys{'is' if count == 1 else 'es'}"
+
+
+def parse_param(
+    text: str, keywords: dict | None = None, takes_any: bool = False
+) -> tuple[str, tuple[float, float, float]]:
     """``"NAME=LOW:HIGH[:START]"`` -> ``(NAME, (START, LOW, HIGH))``.
 
-    START defaults to the builder's default for NAME (``keywords``: :func:`bearingfw.structures.builder_keywords`)
-    when it is a number within the bounds, else the middle of the range (geometric for ``LOW > 0``).
+    START defaults to the builder's default for NAME (``keywords``: the keywords the builder names,
+    :func:`bearingfw.structures.builder_signature`) when it is a number within the bounds, else the
+    middle of the range (geometric for ``LOW > 0``). A NAME the builder does not name is an error
+    unless it ``takes_any`` keyword (``**kwargs``).
     """
     import difflib
     import math
@@ -242,7 +254,7 @@ def parse_param(text: str, keywords: dict | None = None) -> tuple[str, tuple[flo
     low, high = values[:2]
     if not low < high:
         raise ParameterError(f"--param {text!r}: LOW < HIGH is needed, got LOW = {low:g}, HIGH = {high:g}")
-    if keywords is not None and name not in keywords:
+    if keywords is not None and name not in keywords and not takes_any:
         near = difflib.get_close_matches(name, list(keywords), n=3)
         raise ParameterError(
             f"--param {text!r}: the structure's function has no parameter {name!r}"
@@ -263,41 +275,90 @@ def parse_param(text: str, keywords: dict | None = None) -> tuple[str, tuple[flo
     return name, (start, low, high)
 
 
+def _whole_number(builder, name: str, default) -> str | None:
+    """``"annotated"`` if ``builder`` declares ``name`` an ``int``, ``"default"`` if only its default is one."""
+    import inspect
+
+    try:
+        annotation = inspect.signature(builder).parameters[name].annotation
+    except (KeyError, TypeError, ValueError):
+        annotation = inspect.Parameter.empty
+    if annotation in (int, "int"):
+        return "annotated"
+    if annotation is inspect.Parameter.empty and isinstance(default, int) and not isinstance(default, bool):
+        return "default"
+    return None
+
+
 def structure_tune_data(
     spec: str, options: dict, params: list[str], measured_path, select=None, *, min_mac=None, n_modes=None, scan=None,
-    base_dir=None,
+    base_dir=None, origins: dict | None = None,
 ) -> dict:
-    """The ``--json`` object of ``tune --structure``: :func:`bearingfw.tuning.fit_parameters` on ``spec``'s builder."""
-    from bearingfw.structures import build_structure, builder_keywords, load_builder
+    """The ``--json`` object of ``tune --structure``: :func:`bearingfw.tuning.fit_parameters` on ``spec``'s builder.
+
+    ``origins``: how the user gave each option (:func:`bearingfw.structures.option_origins`), for messages.
+    """
+    import difflib
+
+    from bearingfw.structures import REFERENCE, build_structure, builder_signature, load_builder, reference_ignores
     from bearingfw.tuning import FitOptions, fit_parameters, read_measured
 
     if not params:
         raise ParameterError("--structure: give the parameters to calibrate, --param NAME=LOW:HIGH[:START]")
     if not measured_path:
         raise ParameterError("--structure: give the measured modes, --measured FILE (see 'bearingfw tune --help')")
-    keywords = builder_keywords(load_builder(spec, base_dir=base_dir))
+    builder = load_builder(spec, base_dir=base_dir)
+    keywords, takes_any = builder_signature(builder)
     variables = {}
+    notes = []  # warnings of the command line, before the fit's own
     for text in params:
-        name, bounds = parse_param(text, keywords)
+        name, bounds = parse_param(text, keywords, takes_any)
         if name in variables:
             raise ParameterError(f"--param {name}: given twice")
         if name in options:
             raise ParameterError(f"--param {name} and --option {name}=...: a parameter is either fixed or calibrated")
+        whole = _whole_number(builder, name, keywords.get(name))
+        if whole == "annotated":
+            raise ParameterError(
+                f"--param {name}: the structure's function declares {name} an integer, and a calibration moves a "
+                f"parameter continuously between LOW and HIGH; fix it with --option {name}=N and calibrate a "
+                "real-valued parameter"
+            )
+        if whole == "default":
+            notes.append(f"--param {name}: its default is a whole number ({keywords[name]}); the calibration gives it "
+                         "real values between LOW and HIGH")
+        if name not in keywords:  # a **kwargs builder takes it, whatever it is: a typo would change nothing
+            near = difflib.get_close_matches(name, list(keywords), n=3)
+            notes.append(f"--param {name}: the structure's function does not name a parameter {name!r} (it takes "
+                         "any keyword): check its spelling" + (f" (did you mean {', '.join(near)}?)" if near else ""))
         variables[name] = bounds
     given = {"min_mac": min_mac, "n_modes": n_modes, "scan_points": scan}
     fit_options = FitOptions(**{k: v for k, v in given.items() if v is not None})
     measured = read_measured(measured_path).select(select)
-    models = []
+    if min_mac is not None and measured.pair_by == "label":
+        notes.append(f"--min-mac {min_mac:g} does nothing here: the measured modes have no shapes, so they are paired "
+                     "by label, not by MAC")
+    # the start first, checked (the bearing laws too): a refused value names the option or --param that gave it
+    start = {name: bounds[0] for name, bounds in variables.items()}
+    origins = {**(origins or {}), **{n: f"--param {n} = {v:g} (START)" for n, v in start.items()}}
+    model = build_structure(spec, {**options, **start}, base_dir=base_dir, check=True, origins=origins)
+    if spec == REFERENCE:
+        for name in variables:
+            preset = reference_ignores(options, name)
+            if preset is not None:
+                hint = " (the paper's step 1: --option preset=M1, linear springs K_s)" if name == "ks" else ""
+                raise ParameterError(
+                    f"--param {name}: the reference bridge's bearing model {preset} does not use {name}, so no mode "
+                    f"depends on it; choose one that does with --option preset=NAME{hint}"
+                )
 
     def build(values):
-        model = build_structure(spec, {**options, **values}, base_dir=base_dir)
-        if not models:
-            models.append(model.name)
-        return model
+        return build_structure(spec, {**options, **values}, base_dir=base_dir)
 
-    fit = fit_parameters(build, measured, variables, fit_options)
-    return {"structure": spec, "options": options, "model": models[0] if models else None,
-            "measured_file": str(measured_path), **fit.to_dict()}
+    fit = fit_parameters(build, measured, variables, fit_options, describe=lambda name: f"--param {name}")
+    data = fit.to_dict()
+    data["warnings"] = notes + data["warnings"]
+    return {"structure": spec, "options": options, "model": model.name, "measured_file": str(measured_path), **data}
 
 
 def _print_structure(data: dict) -> None:
@@ -313,25 +374,27 @@ def _print_structure(data: dict) -> None:
     for name, p in data["parameters"].items():
         print(f"  {name}: {p['fitted']:.6g}   (start {p['start']:.4g}, scan start {p['scan_start']:.4g}, "
               f"bounds {p['low']:.4g} .. {p['high']:.4g}, {p['scale']} scale)")
-    print(f"  least squares: {cal['evaluations']} modal analyses after a scan of {len(data['scan'])}, {cal['message']}")
+    scanned = f"after a scan of {len(data['scan'])} value{'s' if len(data['scan']) != 1 else ''}" if data["scan"] else (
+        "from the start values (no scan)")
+    print(f"  least squares: {_analyses(cal['evaluations'])} {scanned}, {cal['message']}")
     names = list(data["parameters"])
     head = "".join(f"{'dlnf/dln ' + n:>{max(14, len(n) + 10)}}" for n in names)
-    print(f"  {'mode':<16}{'measured':>10}{'before':>9}{'error':>8}{'after':>9}{'error':>8}{'MAC':>6}  "
+    print(f"  {'mode':<16}{'measured':>10}{'before':>9}{'error':>8}{'after':>9}{'error':>8}{'MAC':>7}  "
           f"{'paired with':<16}{head}")
     for m in data["modes"]:
-        mac = "-" if m["mac_after"] is None else f"{m['mac_after']:.2f}"
+        mac = "-" if m["mac_after"] is None else f"{m['mac_after']:.3f}"
         sens = "".join(
             f"{('-' if m['sensitivity'][n] is None else format(m['sensitivity'][n], '.4f')):>{max(14, len(n) + 10)}}"
             for n in names
         )
         print(f"  {m['name']:<16}{m['measured']:10.4f}{m['before']:9.4f}{m['error_before']:8.2%}{m['after']:9.4f}"
-              f"{m['error_after']:8.2%}{mac:>6}  {m['label_after'] + ' (' + str(m['mode_after']) + ')':<16}{sens}")
+              f"{m['error_after']:8.2%}{mac:>7}  {m['label_after'] + ' (' + str(m['mode_after']) + ')':<16}{sens}")
     print("  (Hz; before: at the start values; after: at the fitted ones; paired with: the computed mode's label "
           "and number; dlnf/dln p: a frequency error e moves p by about e / that)")
     if data["mac"] is not None:
         print("  MAC table (measured x paired computed shapes, after):")
         for m, row in zip(data["modes"], data["mac"], strict=True):
-            print(f"    {m['name']:<16}" + " ".join(f"{v:5.2f}" for v in row))
+            print(f"    {m['name']:<16}" + " ".join(f"{v:6.3f}" for v in row))
     damped = {m["name"]: m["damping"] for m in data["modes"] if m["damping"] is not None}
     if damped:
         print("  measured damping: " + ", ".join(f"{n} {z:.2%}" for n, z in damped.items()))
@@ -340,19 +403,20 @@ def _print_structure(data: dict) -> None:
 
 
 def run(args) -> int:
-    from bearingfw.structures import parse_options
-    from bearingfw.tuning import PairingError
+    from bearingfw.structures import option_origins, parse_options
 
+    # Errors propagate: bearingfw.cli.main gives each its message and exit status.
     generic = args.structure is not None or bool(args.param)
+    if not generic and (args.option or args.n_modes is not None or args.scan is not None):
+        raise ParameterError("--option, --n-modes and --scan apply to --structure (with --param)")
     try:
-        if not generic and (args.option or args.n_modes is not None or args.scan is not None):
-            raise ParameterError("--option, --n-modes and --scan apply to --structure (with --param)")
         if generic:
             from bearingfw.structures import REFERENCE
 
             data = structure_tune_data(
                 args.structure or REFERENCE, parse_options(args.option), args.param, args.measured,
                 _selection(args.modes), min_mac=args.min_mac, n_modes=args.n_modes, scan=args.scan,
+                origins=option_origins(args.option),
             )
         elif args.measured:
             data = measured_tune_data(args.measured, _selection(args.modes), args.min_mac)
@@ -360,9 +424,13 @@ def run(args) -> int:
             if args.modes or args.min_mac is not None:
                 raise ParameterError("--modes and --min-mac need identified modes: give --measured FILE")
             data = tune_data()
-    except (ParameterError, PairingError, OSError) as exc:
-        print(f"bearingfw tune: error: {exc}", file=sys.stderr)
-        return 1
+    except UnicodeDecodeError as exc:  # the only text file read here is the measured-modes file
+        if not args.measured:
+            raise
+        raise ParameterError(
+            f"{args.measured}: not UTF-8 text (byte {exc.object[exc.start:exc.start + 1]!r} at offset {exc.start}); "
+            "a measured-modes file is JSON or TOML in UTF-8"
+        ) from None
     if args.json:
         print(json.dumps(data, indent=2))
     elif generic:

@@ -2,5 +2,6 @@
 
 from bearingfw.laws.coulomb import RegularizedCoulomb
 from bearingfw.laws.elastic import Fixed, Frictionless, LinearSpring
+from bearingfw.laws.inputs import respond_inputs
 
-__all__ = ["Fixed", "Frictionless", "LinearSpring", "RegularizedCoulomb"]
+__all__ = ["Fixed", "Frictionless", "LinearSpring", "RegularizedCoulomb", "respond_inputs"]

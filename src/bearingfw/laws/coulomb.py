@@ -29,7 +29,8 @@ from typing import ClassVar
 import attrs
 import numpy as np
 
-from bearingfw.parameters import check_per_bearing, dims_parameter, parameter
+from bearingfw.laws.inputs import respond_inputs
+from bearingfw.parameters import ParameterError, check_per_bearing, dims_parameter, parameter
 from bearingfw.protocol import LawResponse
 
 
@@ -61,11 +62,16 @@ class RegularizedCoulomb:
         return state["slip"]
 
     def respond(self, state, u, normal_force, dt) -> LawResponse:
-        u = np.asarray(u, dtype=float)
+        u, normal_force = respond_inputs(self, u, normal_force)
         check_per_bearing(self, u.shape[0])
         k = np.asarray(self.k, dtype=float)[..., None]  # (1,) or (n, 1): broadcasts over (n, dims)
         mu = np.asarray(self.mu, dtype=float)[..., None]
         slip = state["slip"]
+        if slip.shape != u.shape:  # a state of other connectors would broadcast into nonsense
+            raise ParameterError(
+                f"law {self.name!r}: respond() argument 'state' holds a slip of shape {slip.shape} but 'u' has shape "
+                f"{u.shape}: give the state of the same connectors (initial_state({u.shape[0]}))"
+            )
         capacity = self.force_bound(normal_force)
         trial = k * (u - slip)
         trial_norm = np.sqrt(np.einsum("ij,ij->i", trial, trial))
@@ -79,6 +85,6 @@ class RegularizedCoulomb:
         projector = np.eye(self.dims) - sliding[:, None, None] * np.einsum("ij,ik->ijk", direction, direction)
         tangent = k[..., None] * scale[:, None, None] * projector
         # F = mu N n on the slip surface; zero in stick and without contact (N <= 0).
-        in_contact = sliding & (np.asarray(normal_force, dtype=float) > 0.0)
+        in_contact = sliding & (normal_force > 0.0)
         dforce_dnormal = np.where(in_contact[:, None], mu * direction, 0.0)
         return LawResponse(force, tangent, {"slip": new_slip}, dforce_dnormal=dforce_dnormal)

@@ -7,6 +7,7 @@ from typing import ClassVar
 import attrs
 import numpy as np
 
+from bearingfw.laws.inputs import respond_inputs
 from bearingfw.parameters import check_per_bearing, dims_parameter, parameter
 from bearingfw.protocol import LawResponse
 
@@ -24,7 +25,7 @@ class Frictionless:
         return {}
 
     def respond(self, state, u, normal_force, dt) -> LawResponse:
-        n = np.shape(u)[0]
+        n = respond_inputs(self, u, normal_force)[0].shape[0]
         return LawResponse(np.zeros((n, self.dims)), np.zeros((n, self.dims, self.dims)), state)
 
 
@@ -58,7 +59,7 @@ class LinearSpring:
         return {}
 
     def respond(self, state, u, normal_force, dt) -> LawResponse:
-        u = np.asarray(u, dtype=float)
+        u = respond_inputs(self, u, normal_force)[0]
         n = u.shape[0]
         check_per_bearing(self, n)
         k = np.asarray(self.k, dtype=float)[..., None]  # (1,) or (n, 1): broadcasts over (n, dims)

@@ -24,7 +24,7 @@ import numpy as np
 
 from bearingfw.motion.errors import RecordFormatError, UnknownReaderError
 from bearingfw.motion.metrics import dominant_frequency, peak
-from bearingfw.motion.record import ROLES, G, Record, Trace, assemble, normalize_units
+from bearingfw.motion.record import MAX_SAMPLES, ROLES, UNIT_FACTORS, G, Record, Trace, assemble, normalize_units
 from bearingfw.motion.vertical import Evidence, amplitude_evidence, label_evidence, name_evidence
 from bearingfw.parameters import ParameterError
 from bearingfw.plugins.contracts import RecordReader
@@ -34,6 +34,7 @@ __all__ = [
     "COLUMNS_READER",
     "NPZ_READER",
     "DT_RANGE",
+    "MAX_ACCELERATION",
     "MAX_DURATION",
     "MAX_SAMPLES",
     "STEP_RTOL",
@@ -54,10 +55,11 @@ STEP_RTOL = 1e-3
 #: Allowed time step of a record (s): a header saying ``DT= 1.0E+10`` is a typo, not a record,
 #: and would exhaust the memory of the response spectrum and the resampling.
 DT_RANGE = (1e-6, 1.0)
-#: Most samples a record may have (100 million: 11.6 days at 100 Hz).
-MAX_SAMPLES = 100_000_000
 #: Longest record (s): a day, ambient vibration included.
 MAX_DURATION = 86_400.0
+#: Largest ground acceleration a file may hold (m/s^2): 100 g, some twenty times the strongest
+#: recorded. Beyond it a value is a unit mistake or junk, and would overflow the Arias intensity.
+MAX_ACCELERATION = 100.0 * G
 
 
 # -- text and numbers -------------------------------------------------------------------------
@@ -72,6 +74,9 @@ def _decode(raw: bytes) -> str:
         return raw.decode("latin-1")
 
 
+_LINE_BREAK = re.compile(r"\r\n|\r|\n")
+
+
 def _lines(path: Path, limit: int | None = None) -> list[str]:
     """The file's lines (CRLF, CR or LF); only the first ``limit`` bytes if given (for sniffing)."""
     try:
@@ -79,16 +84,20 @@ def _lines(path: Path, limit: int | None = None) -> list[str]:
             raw = handle.read() if limit is None else handle.read(limit)
     except OSError as exc:
         raise RecordFormatError(path, None, f"cannot read the file ({exc.strerror or exc})") from exc
-    return _decode(raw).splitlines()
+    # Not str.splitlines(), which also breaks at form feeds and at U+0085, what a latin-1 header
+    # byte 0x85 (an ellipsis in Windows-1252) decodes to: that would shift the lines after it.
+    lines = _LINE_BREAK.split(_decode(raw))
+    return lines[:-1] if lines and lines[-1] == "" else lines
 
 
-# One number as Python, C and Fortran write it (1.0D-03 included); no underscores, no hex.
+# One number as Python, C and Fortran write it (1.0D-03 included); no underscores, no hex, and
+# ASCII digits only (Python's \d and float() also take "１" or "٣": junk in a record file).
 _NUMBER = r"[+-]?(?:(?:\d+\.?\d*|\.\d+)(?:[EeDd][+-]?\d+)?|nan|inf(?:inity)?)"
-_NUMBER_RE = re.compile(_NUMBER, re.IGNORECASE)
+_NUMBER_RE = re.compile(_NUMBER, re.IGNORECASE | re.ASCII)
 # Fixed-width output glues a negative value to the one before it: "-0.123E-02-0.456E-02". A glued
 # value must start with its sign and have a decimal point, so that "1.0-103" (a Fortran exponent
 # without its letter) is an error rather than two numbers.
-_GLUED_RE = re.compile(rf"{_NUMBER}(?:[+-](?:\d+\.\d*|\.\d+)(?:[EeDd][+-]?\d+)?)*", re.IGNORECASE)
+_GLUED_RE = re.compile(rf"{_NUMBER}(?:[+-](?:\d+\.\d*|\.\d+)(?:[EeDd][+-]?\d+)?)*", re.IGNORECASE | re.ASCII)
 
 
 def _number(token: str, path: Path, line: int) -> float:
@@ -306,7 +315,7 @@ def read_at2(path: str | Path, *, dt: float | None = None, units: str | None = N
 
 _TIME_NAME = re.compile(r"^\s*(t|time)\b", re.IGNORECASE)
 _COMMENT_KEY = re.compile(r"^[#%]\s*(?P<key>units?|dt)\s*[:=]\s*(?P<value>.+?)\s*$", re.IGNORECASE)
-_DECIMAL_COMMA = re.compile(r"^[+-]?\d*,\d+(?:[EeDd][+-]?\d+)?$")
+_DECIMAL_COMMA = re.compile(r"^[+-]?\d*,\d+(?:[EeDd][+-]?\d+)?$", re.ASCII)
 
 
 def _delimiter(line: str) -> str | None:
@@ -771,7 +780,25 @@ def read_file(
             raise TypeError(f"record reader {reader.name!r} returned {trace!r} for {path}, not bearingfw.motion.Trace")
     if not found:
         raise RecordFormatError(path, None, f"the {reader.name} reader found no acceleration component in it")
+    for k, trace in enumerate(found):
+        _check_amplitude(path, k, trace)
     return reader, found
+
+
+def _check_amplitude(path: Path, k: int, trace: Trace) -> None:
+    """Refuse a component with a value beyond MAX_ACCELERATION (in m/s^2, whatever the file's units)."""
+    factor = UNIT_FACTORS[trace.units]
+    i = int(np.argmax(np.abs(trace.values)))
+    value = float(trace.values[i])
+    if abs(value) * factor > MAX_ACCELERATION:
+        what = f"component {k + 1}" + (f" ({trace.label})" if trace.label else "")
+        raise RecordFormatError(
+            path, None,
+            f"value {value:g} {trace.units}" + (f" = {value * factor:.4g} m/s^2" if factor != 1.0 else "")
+            + f" is outside the allowed range "
+            f"|a| <= {MAX_ACCELERATION:g} m/s^2 (100 g): are the units right?",
+            f"{what}, sample {i + 1}",
+        )
 
 
 def _trace_frequency(trace: Trace) -> float | None:

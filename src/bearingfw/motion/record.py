@@ -26,6 +26,8 @@ __all__ = [
     "AXIS_ROLES",
     "DEFAULT_NAMES",
     "G",
+    "MAX_REFINEMENT",
+    "MAX_SAMPLES",
     "ROLES",
     "UNIT_FACTORS",
     "Record",
@@ -369,6 +371,13 @@ def _checked_step(value: Any, what: str) -> float:
     return step
 
 
+#: Most samples a record or a resampled component may have (100 million: 11.6 days at 100 Hz).
+MAX_SAMPLES = 100_000_000
+#: Largest refinement of a time step by resampling: a component sampled 1000 times more coarsely
+#: than another holds nothing at the finer one's frequencies, and the filter would grow with it.
+MAX_REFINEMENT = 1000
+
+
 def resample(values: np.ndarray, dt_from: float, dt_to: float) -> np.ndarray:
     """Resample a signal from step ``dt_from`` to ``dt_to`` (band-limited, zero phase).
 
@@ -390,7 +399,19 @@ def resample(values: np.ndarray, dt_from: float, dt_to: float) -> np.ndarray:
         )
     if ratio == 1:
         return np.array(values, dtype=float)
-    return signal.resample_poly(np.asarray(values, dtype=float), ratio.numerator, ratio.denominator)
+    if ratio.numerator > MAX_REFINEMENT:
+        raise ParameterError(
+            f"cannot resample from dt = {dt_from:g} s to dt = {dt_to:g} s: a time step is refined at most "
+            f"{MAX_REFINEMENT} times (here {dt_from / dt_to:.4g}); are the time steps of the components right?"
+        )
+    values = np.asarray(values, dtype=float)
+    size = math.ceil(values.size * ratio.numerator / ratio.denominator)
+    if size > MAX_SAMPLES:
+        raise ParameterError(
+            f"resampling {values.size} samples from dt = {dt_from:g} s to dt = {dt_to:g} s gives {size} samples, "
+            f"outside the allowed range samples <= {MAX_SAMPLES}"
+        )
+    return signal.resample_poly(values, ratio.numerator, ratio.denominator)
 
 
 def assemble(
@@ -420,7 +441,12 @@ def assemble(
         if not isinstance(trace, Trace):
             raise TypeError(f"expected bearingfw.motion.Trace objects, got {trace!r}")
     target = min(t.dt for t in traces) if dt is None else _checked_step(dt, "dt")
-    series = [resample(t.in_si(), t.dt, target) for t in traces]
+    series = []
+    for k, t in enumerate(traces):
+        try:
+            series.append(resample(t.in_si(), t.dt, target))
+        except ParameterError as exc:  # say which component: the time steps come from its file
+            raise ParameterError(f"component {k + 1} ({t.label or DEFAULT_NAMES[k]}): {exc}") from None
     padded, lengths = _pad_to_longest(series)
     if names is None:
         names = tuple(t.label or default for t, default in zip(traces, DEFAULT_NAMES))

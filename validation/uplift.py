@@ -9,7 +9,7 @@ The model: a rigid girder (mass ``MASS``, rotary inertia ``INERTIA`` about y, ce
 (``Connector(uplift=True)``: compression-only vertical springs ``KV``), each with linear
 horizontal springs ``K`` in x and y (PLANAR ``linear-spring``), moving in the x-z plane (its
 centre of mass held in y, and in the rotations about x and z). Under the Manjil 1990
-record (Abbar station, longitudinal and vertical components, /work/shared/records/) scaled by
+record (Abbar station, longitudinal and vertical components, examples/data/records/) scaled by
 ``SCALE`` (vertical peak about 1.6 g), both bearings lift off repeatedly, at different times
 (the off-centre mass loads them unequally and the horizontal shaking rocks the girder).
 
@@ -66,7 +66,7 @@ from bearingfw.model import Connector, Model, NodalMass, Node, RigidLink, Suppor
 from bearingfw.motion import read_record  # noqa: E402
 
 TOLERANCE = 0.01
-RECORDS = Path("/work/shared/records")
+RECORDS = Path(__file__).resolve().parents[1] / "examples" / "data" / "records"  # the same PEER files as shared/records
 MANJIL = ("RSN1633_MANJIL_ABBAR--L.AT2", "RSN1633_MANJIL_ABBAR--T.AT2", "RSN1633_MANJIL_ABBAR--V.AT2")
 SCALE = 2.0  # vertical peak 0.54 g -> 1.08 g
 G = 9.81

@@ -25,7 +25,6 @@ import functools
 import hashlib
 import importlib
 import importlib.util
-import sys
 from collections.abc import Iterable, Sequence
 from importlib import metadata
 from pathlib import Path
@@ -37,7 +36,14 @@ from bearingfw.model import ConnectorKind, FrameElement, Model, as_system
 from bearingfw.parameters import ParameterError
 from bearingfw.plugins import Registry, get_registry, load_registry
 from bearingfw.plugins.registry import ENTRY_POINT_GROUP
-from bearingfw.structures import StructureError, build_structure, builder_keywords, import_location, load_builder
+from bearingfw.structures import (
+    StructureError,
+    build_structure,
+    builder_keywords,
+    import_location,
+    load_builder,
+    on_path,
+)
 
 __all__ = [
     "build_model",
@@ -66,19 +72,6 @@ def import_paths(experiment: Experiment) -> tuple[str, ...]:
     """Absolute folders for the builder and plugin modules: the experiment file's own, then ``python_path``."""
     paths = [experiment.base_dir, *(experiment.resolve_path(p) for p in experiment.python_path)]
     return tuple(dict.fromkeys(str(Path(p).resolve()) for p in paths))
-
-
-@contextlib.contextmanager
-def on_path(paths: Iterable[str]):
-    """``paths`` in front of ``sys.path`` while the block runs (modules imported stay imported)."""
-    added = [p for p in paths if p not in sys.path]
-    sys.path[:0] = added
-    try:
-        yield
-    finally:
-        for p in added:
-            with contextlib.suppress(ValueError):
-                sys.path.remove(p)
 
 
 @functools.lru_cache(maxsize=8)

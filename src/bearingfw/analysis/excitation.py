@@ -76,6 +76,15 @@ class Excitation:
             return self.nodal_full
         return self._sample(self.nodal_full, t)
 
+    def bearing_offset(self, t: float) -> tuple[np.ndarray, np.ndarray] | None:
+        """What differential support motion adds, at ``t``, to the kernel's ``[B; V] x`` (the law
+        displacements, then the vertical springs' shortening) and the rate of its ``B`` rows, or None.
+
+        Uniform motion moves every support alike: it deforms no bearing, so this is None and a step
+        is exactly what it always was (:func:`bearingfw.analysis.hht.step`). It must be zero at
+        ``t = 0`` (the run starts from the preload at rest)."""
+        return None
+
     def load(self, t: float) -> np.ndarray:
         """The dynamic load on the free DOFs at ``t``: ``-T^T M r a_g(t) + T^T f(t)``."""
         F = -(self.P @ self._sample(self.acceleration, t))

@@ -216,9 +216,14 @@ class Problem:
     def normal_forces(self, x: np.ndarray) -> np.ndarray:
         return self.N0 - self.kv * (self.mul.V @ x)
 
-    def bearings(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """``(d, N)`` at ``x``: the law displacements and normal forces, from one ``[B; V]`` product."""
+    def bearings(self, x: np.ndarray, offset: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """``(d, N)`` at ``x``: the law displacements and normal forces, from one ``[B; V]`` product.
+
+        ``offset``: what differential support motion adds to ``[B; V] x`` at this instant (rows of
+        ``B`` then of ``V``; :meth:`~bearingfw.analysis.excitation.Excitation.bearing_offset`)."""
         dv = self.mul.BV @ x
+        if offset is not None:
+            dv = dv + offset
         return self.d0 + dv[: self.m], self.N0 - self.kv * dv[self.m :]
 
     def damping_force(self, Mv: np.ndarray, Kv: np.ndarray) -> np.ndarray:
@@ -399,16 +404,23 @@ def _coupling(p: Problem, responses, N: np.ndarray) -> np.ndarray | None:
 @attrs.frozen(eq=False)
 class Motion:
     """What a step needs to give the laws their trial velocity: ``rate = gamma / (beta h)`` and,
-    when a law uses the velocity, ``B v = B vt + rate (B x - B xt)`` with ``B x = d - d_0``."""
+    when a law uses the velocity, ``B v = B vt + rate (B x - B xt)`` with ``B x = d - d_0 - e``.
+
+    ``offset``: ``e``, what differential support motion adds to ``[B; V] x`` at the step's end (None:
+    uniform motion), and ``offset_rate`` its rate on the rows of ``B``, added to the laws' velocity."""
 
     rate: float
     Bvt: np.ndarray | None = None
     Bxt: np.ndarray | None = None
+    offset: np.ndarray | None = None
+    offset_rate: np.ndarray | None = None
 
     def velocity(self, p: Problem, d: np.ndarray) -> np.ndarray | None:
         if self.Bvt is None:
             return None
-        return self.Bvt + self.rate * ((d - p.d0) - self.Bxt)
+        if self.offset is None:
+            return self.Bvt + self.rate * ((d - p.d0) - self.Bxt)
+        return self.Bvt + self.rate * ((d - p.d0 - self.offset[: p.m]) - self.Bxt) + self.offset_rate
 
 
 def _tangent_times(blocks, vector: np.ndarray) -> np.ndarray:
@@ -521,8 +533,8 @@ def _coupled_correction(p: Problem, op: Operator, trial: _FastTrial) -> tuple[np
 def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, force_scale: float, motion: Motion):
     x_lin = op.solve(r)
     if not p.m:
-        return x_lin, s.f, s.d, p.bearings(x_lin)[1], s.law_states, 0, 0, None
-    d_lin, N_lin = p.bearings(x_lin)
+        return x_lin, s.f, s.d, p.bearings(x_lin, motion.offset)[1], s.law_states, 0, 0, None
+    d_lin, N_lin = p.bearings(x_lin, motion.offset)
     c = 1.0 + p.scheme.alpha
     size = max(_inf(d_lin), p.d0_size)
     n_round = _ROUND * _inf(N_lin)
@@ -650,10 +662,10 @@ def _solve_general(
     c = 1.0 + p.scheme.alpha
     if not p.m:
         x = op.solve(r)
-        return x, s.f, s.d, p.bearings(x)[1], s.law_states, 0, 0, None
+        return x, s.f, s.d, p.bearings(x, motion.offset)[1], s.law_states, 0, 0, None
 
     def evaluate(x: np.ndarray) -> _GeneralTrial:
-        d, N = p.bearings(x)
+        d, N = p.bearings(x, motion.offset)
         responses = p.ops.respond(s.law_states, d, N, h, velocity=motion.velocity(p, d))
         f = p.ops.forces(responses)
         Bt_phi = p.mul.Bt @ (f - p.f0)
@@ -688,8 +700,15 @@ def _solve_general(
     raise StepFailure("no convergence", _inf(trial.R) / force_scale, np.abs(delta), p.max_iterations)
 
 
-def step(p: Problem, op: Operator, s: State, t1: float, load1: np.ndarray) -> tuple[State, int, int]:
+def step(
+    p: Problem, op: Operator, s: State, t1: float, load1: np.ndarray, offset1: tuple | None = None
+) -> tuple[State, int, int]:
     """Advance ``s`` by ``op.h`` to time ``t1`` and dynamic load ``load1``.
+
+    ``offset1``: under differential support motion, ``(e, e_rate)`` at ``t1``: what the support
+    displacements add to ``[B; V] x`` (the law displacements, then the vertical springs) and its
+    rate on the rows of ``B`` (:meth:`~bearingfw.analysis.excitation.Excitation.bearing_offset`);
+    None for uniform motion, which leaves the step exactly as it was.
 
     Returns the new state, the Newton iterations and the line-search halvings. Raises
     :class:`StepFailure` when Newton does not converge.
@@ -700,7 +719,11 @@ def step(p: Problem, op: Operator, s: State, t1: float, load1: np.ndarray) -> tu
     r, xt, vt = effective_rhs(p, s, h, load1)
     force_scale = max(_inf(load1), _inf(s.f), p.force_floor)
     rate = sch.gamma / (sch.beta * h)
-    motion = Motion(rate, p.mul.B @ vt, p.mul.B @ xt) if p.ops.any_velocity and p.m else Motion(rate)
+    e, e_rate = (None, None) if offset1 is None else offset1
+    if p.ops.any_velocity and p.m:
+        motion = Motion(rate, p.mul.B @ vt, p.mul.B @ xt, e, e_rate)
+    else:
+        motion = Motion(rate, offset=e)
     solver = _solve_fast if p.fast else _solve_general
     x, f, d, N, law_states, iterations, backtracks, tangents = solver(p, op, s, r, h, force_scale, motion)
     if not _finite(x):

@@ -288,7 +288,9 @@ class _Run:
         t1 = t0 + h
         self.attempt = t1
         try:
-            new, iterations, backtracks = hht.step(self.p, self.operator(h), s, t1, self.exc.load(t1))
+            new, iterations, backtracks = hht.step(
+                self.p, self.operator(h), s, t1, self.exc.load(t1), self.exc.bearing_offset(t1)
+            )
         except hht.StepFailure as failure:
             self.stats["failed_iterations"] += failure.iterations
             if depth >= self.max_halvings:

@@ -7,6 +7,7 @@ installed plugins or from ``registry=``) or an already built :class:`~bearingfw.
 
 from bearingfw.analysis.damping import Rayleigh, damping_ratio_from_log_decrement, rayleigh_from_ratios
 from bearingfw.analysis.energy import ENERGY_COLUMNS, Energy
+from bearingfw.analysis.excitation import SupportMotion, support_groups
 from bearingfw.analysis.history import TransientResult
 from bearingfw.analysis.modal import (
     DEFAULT_SHIFT,
@@ -22,7 +23,7 @@ from bearingfw.analysis.modal import (
     participation,
     solve_modal,
 )
-from bearingfw.analysis.recorders import ConnectorResponse, ElementForces, ElementStress, NodalResponse
+from bearingfw.analysis.recorders import ConnectorResponse, ElementForces, ElementStress, NodalResponse, SupportResponse
 from bearingfw.analysis.results import (
     SECTION_COMPONENTS,
     SectionForces,
@@ -44,6 +45,7 @@ from bearingfw.analysis.static import (
 from bearingfw.analysis.transient import TransientError, TransientSettings, initial_acceleration, solve_transient
 
 __all__ = [
+    "support_groups",
     "BEARINGS",
     "ConnectorResponse",
     "DEFAULT_SHIFT",
@@ -58,6 +60,8 @@ __all__ = [
     "Rayleigh",
     "SECTION_COMPONENTS",
     "SectionForces",
+    "SupportMotion",
+    "SupportResponse",
     "StaticResult",
     "Stresses",
     "TransientError",

@@ -26,7 +26,16 @@ ConnectorResponse      ``<name>.force`` (t, c, 3) local x, y, z forces resisting
                        while closed, NaN for connectors without uplift) and ``.lifted`` (t, c)
                        True while it is open
 NodalResponse          ``<name>``: (t, nodes, components) displacement, velocity or acceleration
+SupportResponse        ``<name>.displacement`` (t, groups, 3) each support group's displacement
+                       relative to the reference group; ``.quasi_static`` (t, c, 3) the law
+                       displacement the quasi-static support motion imposes on each connector
 =====================  =====================================================================
+
+Differential support motion (:class:`~bearingfw.analysis.excitation.SupportMotion`): the kernel's
+``x`` is the motion relative to the quasi-static one, ``Psi delta(t)``; stresses, section forces,
+connector displacements, spring forces and tie forces add it (they are total), as do total nodal
+responses (displacement: relative to the reference support group's rigid motion; velocity and
+acceleration: absolute).
 
 Totals: stresses, section forces and connector quantities are *total* (dead load + dynamic), as
 in the paper's figures. Nodal responses: see :class:`NodalResponse` for what ``total`` adds.
@@ -63,6 +72,7 @@ __all__ = [
     "ElementForces",
     "ConnectorResponse",
     "NodalResponse",
+    "SupportResponse",
     "Context",
     "MultiplierMap",
     "Snapshot",
@@ -167,9 +177,11 @@ class MultiplierMap:
     ground: np.ndarray  # (rows, 3): G_rows C M R
     laws: np.ndarray  # (rows, m): G_rows C B^T
     nodal: np.ndarray  # (rows, n_dof): G_rows C
+    support_inertia: np.ndarray | None = None  # (rows, k): G_rows C M Psi (differential support motion)
+    support_stiffness: np.ndarray | None = None  # (rows, k): G_rows C K Psi
 
     @classmethod
-    def of(cls, system: System, R: np.ndarray, rows) -> MultiplierMap:
+    def of(cls, system: System, R: np.ndarray, rows, psi: np.ndarray | None = None) -> MultiplierMap:
         rows = np.asarray(rows, dtype=int)
         constraints = system.constraints
         unit = np.zeros((len(constraints.equations), rows.size))
@@ -185,10 +197,13 @@ class MultiplierMap:
             ground=np.asarray(GCM @ R),
             laws=np.asarray((GC @ system.connectors.B.T).toarray()),
             nodal=np.asarray(GC.toarray()),
+            support_inertia=None if psi is None else np.asarray(GCM @ psi),
+            support_stiffness=None if psi is None else np.asarray(GC @ (system.K @ psi)),
         )
 
-    def dynamic(self, s: Snapshot, a0: float, a1: float, law_forces0: np.ndarray) -> np.ndarray:
-        """The multipliers ``rows`` beyond the preload's at the instant ``s``."""
+    def dynamic(self, s: Snapshot, a0: float, a1: float, law_forces0: np.ndarray, support=None) -> np.ndarray:
+        """The multipliers ``rows`` beyond the preload's at the instant ``s``; ``support``: the differential
+        support motion ``(delta, delta', delta'')`` at ``s.t`` (:meth:`Excitation.support_differences`)."""
         a = s.a if s.a_equilibrium is None else s.a_equilibrium
         lam = (
             self.inertia @ (a + a0 * s.v)
@@ -196,6 +211,8 @@ class MultiplierMap:
             + self.ground @ s.ground_acceleration
             + self.laws @ (s.f - law_forces0)
         )
+        if support is not None and self.support_inertia is not None:
+            lam = lam + self.support_inertia @ support[2] + self.support_stiffness @ support[0]
         return lam if s.nodal is None else lam - self.nodal @ s.nodal
 
 
@@ -235,13 +252,22 @@ class Context:
         a = s.a if s.a_equilibrium is None else s.a_equilibrium
         acc = T @ a + self.excitation.R @ s.ground_acceleration
         vel = T @ s.v
-        r = sys.M @ (acc + self.a0 * vel) + sys.K @ (T @ s.x + self.a1 * vel)
+        disp = T @ s.x
+        quasi = self.excitation.pseudo_static(s.t)
+        if quasi is not None:  # differential support motion: Psi delta, damped only through x' (excitation)
+            disp, acc = disp + quasi[0], acc + quasi[2]
+        r = sys.M @ (acc + self.a0 * vel) + sys.K @ (disp + self.a1 * vel)
         r = r + self._Bt @ (s.f - self.preload.law_forces)
         return r if s.nodal is None else r - s.nodal
 
     def multiplier_map(self, rows) -> MultiplierMap:
         """:class:`MultiplierMap` of the constraint equations ``rows`` (for recorders: build once)."""
-        return MultiplierMap.of(self.system, self.excitation.R, rows)
+        dif = self.excitation.differential
+        return MultiplierMap.of(self.system, self.excitation.R, rows, None if dif is None else dif.psi)
+
+    def support_differences(self, t: float):
+        """The differential support motion at ``t`` (None for uniform motion): :meth:`Excitation.support_differences`."""
+        return self.excitation.support_differences(t)
 
 
 class _Probe:
@@ -263,8 +289,9 @@ class _Probe:
         return data, meta
 
 
-def _section_force_map(ctx: Context, names: tuple[str, ...]) -> tuple[sp.csr_matrix, np.ndarray]:
-    """``(L, F_dead)``: section forces (elements x 2 x 6, flattened) = ``L x + F_dead`` for ``x = q - q_0``."""
+def _section_force_map(ctx: Context, names: tuple[str, ...]) -> tuple[sp.csr_matrix, np.ndarray, np.ndarray | None]:
+    """``(L, F_dead, L_psi)``: section forces (elements x 2 x 6, flattened) = ``L x + L_psi delta + F_dead`` for
+    ``x = q - q_0`` and the differential support motion ``delta`` (``L_psi`` None for uniform motion)."""
     sys = ctx.system
     model = sys.model
     for n in names:
@@ -280,7 +307,15 @@ def _section_force_map(ctx: Context, names: tuple[str, ...]) -> tuple[sp.csr_mat
     L_dofs = sp.csr_matrix(np.column_stack(cols))
     L_full = sp.csr_matrix((L_dofs.data, dofs[L_dofs.indices], L_dofs.indptr), shape=(L_dofs.shape[0], sys.n_dof))
     dead = section_forces(sys, ctx.preload.u, names, g=ctx.preload.g).values
-    return (L_full @ sys.T).tocsr(), dead
+    dif = ctx.excitation.differential
+    return (L_full @ sys.T).tocsr(), dead, None if dif is None else np.asarray(L_full @ dif.psi)
+
+
+def _with_support(value: np.ndarray, quasi: np.ndarray | None, ctx: Context, t: float) -> np.ndarray:
+    """``value`` plus ``quasi @ delta(t)``: the differential support motion's quasi-static share."""
+    if quasi is None:
+        return value
+    return value + quasi @ ctx.excitation.support_differences(t)[0]
 
 
 # ---- element stresses and section forces ------------------------------------------------------
@@ -324,11 +359,12 @@ class _StressProbe(_Probe):
             self.sections.append(e.section)
             self.pick.append([available.index(p) for p in wanted])
         element_stresses(ctx.system, ctx.preload.u, spec.elements, g=ctx.preload.g)  # the kernel's own checks
-        self.L, self.dead = _section_force_map(ctx, spec.elements)
+        self.L, self.dead, self.L_psi = _section_force_map(ctx, spec.elements)
+        self.ctx = ctx
         self.rows: list[np.ndarray] = []
 
     def _sample(self, s: Snapshot) -> None:
-        self.rows.append(self.L @ s.x)
+        self.rows.append(_with_support(self.L @ s.x, self.L_psi, self.ctx, s.t))
 
     def _finish(self):
         spec = self.spec
@@ -363,11 +399,12 @@ class ElementForces:
 class _ForcesProbe(_Probe):
     def __init__(self, spec: ElementForces, ctx: Context):
         super().__init__(spec)
-        self.L, self.dead = _section_force_map(ctx, spec.elements)
+        self.L, self.dead, self.L_psi = _section_force_map(ctx, spec.elements)
+        self.ctx = ctx
         self.rows: list[np.ndarray] = []
 
     def _sample(self, s: Snapshot) -> None:
-        self.rows.append(self.L @ s.x)
+        self.rows.append(_with_support(self.L @ s.x, self.L_psi, self.ctx, s.t))
 
     def _finish(self):
         n = len(self.spec.elements)
@@ -407,6 +444,8 @@ class _ConnectorProbe(_Probe):
         rows = (3 * self.index[:, None] + np.arange(3)[None, :]).reshape(-1)
         self.D = (ops.D[rows] @ sys.T).tocsr()
         self.D0 = ops.D[rows] @ ctx.preload.u
+        dif = ctx.excitation.differential
+        self.D_psi = None if dif is None else np.asarray(ops.D[rows] @ dif.psi)
         # law quantities (rows of B, per group) -> (selected connector, local direction) slots
         selected = {int(c): k for k, c in enumerate(self.index)}
         self.governed = np.zeros((self.index.size, 3), dtype=bool)
@@ -448,21 +487,33 @@ class _ConnectorProbe(_Probe):
         self.multipliers = ctx.multiplier_map(self.recovery.tie_rows[ties]) if np.any(ties) else None
         self.springs = (ops.V @ sys.T).tocsr() if ops.spring_connectors.size else None
         self.springs0 = ops.V @ ctx.preload.u if ops.spring_connectors.size else None
+        self.springs_psi = None if (dif is None or self.springs is None) else np.asarray(ops.V @ dif.psi)
         self.kv = ops.kv
         self.ctx = ctx
         self.forces, self.disp, self.law_disp, self.slip, self.gaps = [], [], [], [], []
 
     def _sample(self, s: Snapshot) -> None:
         ctx = self.ctx
+        support = ctx.support_differences(s.t)  # None: uniform motion
         lam = ctx.preload.multipliers
         if self.multipliers is not None:
             lam = lam.copy()
-            lam[self.multipliers.rows] += self.multipliers.dynamic(s, ctx.a0, ctx.a1, ctx.preload.law_forces)
-        springs = self.kv * (self.springs0 + self.springs @ s.x) if self.springs is not None else np.zeros(0)
+            lam[self.multipliers.rows] += self.multipliers.dynamic(s, ctx.a0, ctx.a1, ctx.preload.law_forces, support)
+        if self.springs is not None:
+            shortening = self.springs @ s.x if support is None else self.springs @ s.x + self.springs_psi @ support[0]
+            springs = self.kv * (self.springs0 + shortening)
+        else:
+            springs = np.zeros(0)
         forces = self.recovery.connector_forces(springs, s.f, lam)
         self.forces.append(forces[self.index])
-        self.disp.append((self.D0 + self.D @ s.x).reshape(-1, 3))
-        d = (self.B @ (ctx.q0 + s.x) - self.reference) if s.d is None else s.d
+        moved = self.D @ s.x if support is None else self.D @ s.x + self.D_psi @ support[0]
+        self.disp.append((self.D0 + moved).reshape(-1, 3))
+        if s.d is None:
+            d = self.B @ (ctx.q0 + s.x) - self.reference
+            if support is not None:
+                d = d + ctx.excitation.bearing_offset(s.t)[0][: self.B.shape[0]]
+        else:
+            d = s.d
         law_disp = np.full(3 * self.index.size, np.nan)
         law_disp[self.law_slots] = d[self.law_rows]
         slip = np.full(3 * self.index.size, np.nan)
@@ -506,6 +557,84 @@ class _ConnectorProbe(_Probe):
         return data, meta
 
 
+# ---- support motion -----------------------------------------------------------------------------
+@attrs.frozen
+class SupportResponse:
+    """The support groups' differential motion and what it imposes on the bearings quasi-statically.
+
+    ``<name>.displacement`` (t, groups, 3): each support group's displacement relative to the
+    reference group (global x, y, z; m), as the analysis applies it (zero for uniform motion and for
+    the reference); ``<name>.quasi_static`` (t, c, 3): the law displacement that the quasi-static
+    motion ``Psi delta`` imposes on each connector (``e`` of
+    :meth:`~bearingfw.analysis.excitation.Excitation.bearing_offset`: what the bearing would deform
+    if the bridge followed the support motion quasi-statically with its bearings at their initial
+    tangent), in the law's directions, NaN elsewhere. The description names the groups and the
+    reference group.
+    """
+
+    every: int = _every_field()
+    name: str = _label_field("supports")
+
+    @property
+    def label(self) -> str:
+        return self.name
+
+    def bind(self, ctx: Context) -> _Probe:
+        return _SupportProbe(self, ctx)
+
+
+class _SupportProbe(_Probe):
+    def __init__(self, spec: SupportResponse, ctx: Context):
+        super().__init__(spec)
+        exc = ctx.excitation
+        sys = ctx.system
+        model = sys.model
+        ops = sys.connectors
+        motion = exc.support
+        self.groups = list(motion.groups) if motion is not None else []
+        self.reference = motion.reference_group if motion is not None else None
+        dif = exc.differential
+        # columns of the differences -> (group, direction) slots
+        self.columns = np.zeros(0, dtype=int)
+        if dif is not None:
+            self.columns = np.concatenate([3 * self.groups.index(g) + np.arange(3) for g in dif.groups])
+        self.n_connectors = len(model.connectors)
+        rows, slots = [], []
+        for g in ops.groups:
+            if g.gap:
+                continue
+            for pos, c in enumerate(g.connectors.tolist()):
+                for k, direction in enumerate(model.connectors[c].law_directions):
+                    rows.append(g.rows.start + g.dims * pos + k)
+                    slots.append(3 * c + direction)
+        self.law_rows, self.law_slots = np.array(rows, dtype=int), np.array(slots, dtype=int)
+        self.ctx = ctx
+        self.disp, self.quasi = [], []
+
+    def _sample(self, s: Snapshot) -> None:
+        exc = self.ctx.excitation
+        disp = np.zeros(3 * len(self.groups))
+        quasi = np.full(3 * self.n_connectors, np.nan)
+        quasi[self.law_slots] = 0.0
+        support = exc.support_differences(s.t)
+        if support is not None:
+            disp[self.columns] = support[0]
+            quasi[self.law_slots] = exc.bearing_offset(s.t)[0][self.law_rows]
+        self.disp.append(disp.reshape(-1, 3))
+        self.quasi.append(quasi.reshape(-1, 3))
+
+    def _finish(self):
+        name = self.label
+        data = {
+            f"{name}.displacement": np.array(self.disp).reshape(len(self.times), len(self.groups), 3),
+            f"{name}.quasi_static": np.array(self.quasi).reshape(len(self.times), self.n_connectors, 3),
+        }
+        meta = {"kind": "support response", "groups": list(self.groups), "reference": self.reference,
+                "connectors": [c.name for c in self.ctx.system.model.connectors], "directions": ["x", "y", "z"],
+                "units": {"displacement": "m", "quasi_static": "m"}}
+        return data, meta
+
+
 # ---- nodes --------------------------------------------------------------------------------------
 def _components(value):
     if isinstance(value, str):
@@ -530,7 +659,9 @@ class NodalResponse:
 
     The solver integrates the motion relative to the ground (every support moves with the same
     ground motion), measured from the gravity preload. ``total`` adds what that leaves out, which
-    differs by quantity:
+    differs by quantity (under differential support motion also the quasi-static motion
+    ``Psi delta``, so a total displacement is relative to the reference group's rigid motion, and
+    the default the motion relative to the quasi-static one):
 
     ============  ===========================================  =================================
     quantity      ``total=False`` (default)                    ``total=True``
@@ -575,6 +706,9 @@ class _NodalProbe(_Probe):
         self.shape = (len(spec.nodes), len(spec.components))
         self.offset = ctx.preload.u[dofs] if (spec.total and spec.quantity == "displacement") else None
         self.R = ctx.excitation.R[dofs] if (spec.total and spec.quantity != "displacement") else None
+        dif = ctx.excitation.differential
+        self.psi = dif.psi[dofs] if (spec.total and dif is not None) else None
+        self.ctx = ctx
         self.rows: list[np.ndarray] = []
 
     def _sample(self, s: Snapshot) -> None:
@@ -584,6 +718,9 @@ class _NodalProbe(_Probe):
             value = value + self.offset
         if self.R is not None:
             value = value + self.R @ (s.ground_velocity if quantity == "velocity" else s.ground_acceleration)
+        if self.psi is not None:  # the quasi-static motion of the differential support motion
+            k = QUANTITIES.index(quantity)
+            value = value + self.psi @ self.ctx.excitation.support_differences(s.t)[k]
         self.rows.append(value)
 
     def _finish(self):

@@ -23,6 +23,13 @@ with Newmark's updates ``x_{n+1} = xt + beta h^2 a_{n+1}``, ``v_{n+1} = vt + gam
 (``C = a0 M + a1 K``, Rayleigh). ``A`` is constant for a step size ``h``: it is factorised once per
 ``h`` (:func:`factor`).
 
+Products: ``r`` needs ``M`` and ``K`` times combinations of ``x_n``, ``v_n``, ``a_n``, and the energy
+balance and damping force need ``M v``, ``M a``, ``K x``, ``K v`` at the new instant. A state keeps
+``M [x, v, a]`` and ``K [x, v, a]`` (:attr:`State.products`); a step makes one sparse product,
+``[M; K] x_{n+1}``, and gets the others from Newmark's updates applied to the products
+(``M a_{n+1} = (M x_{n+1} - M xt) / (beta h^2)``, ``M v_{n+1} = M vt + gamma h M a_{n+1}``), the
+same operations the scheme applies to ``x``, ``v``, ``a`` (so their round-off is of the same kind).
+
 Fast path (static condensation onto the ``m`` governed bearing directions): with
 ``W = A^{-1} B^T`` (n x m), ``S = B W`` (m x m) and ``x_lin = A^{-1} r`` (one back-substitution),
 ``x = x_lin - c W phi``, so the bearing displacements solve the small system::
@@ -32,7 +39,9 @@ Fast path (static condensation onto the ``m`` governed bearing directions): with
 by Newton (``K_t`` the laws' block-diagonal consistent tangent). The first iterate linearises the
 law forces about the last step's converged point with its tangent,
 ``(I + c S K_t,n) d = d_lin - c S (phi_n - K_t,n d_n)``: exact for linear laws and sticking
-bearings, which then converge at their first law call (one call per step instead of two). The
+bearings, which then converge at their first law call (one call per step instead of two); with
+dF/dN it also linearises in the coupled normal forces (:func:`_predict`), exact for a 1-D friction
+bearing that keeps sliding under a changing normal force. The
 normal forces follow
 ``N = N_lin + c kv (V W) phi``, evaluated for the next iterate with ``phi`` linearised there
 (``phi - K_t delta``); a law that gives no ``dphi/dN`` sees its ``N`` lag one iteration, and the
@@ -92,6 +101,7 @@ one extra law call).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import attrs
@@ -118,6 +128,7 @@ __all__ = [
     "BACKTRACKS",
 ]
 
+_sum = np.add.reduce
 #: Round-off allowance of the convergence tests, in units of the compared quantities' size.
 _ROUND = 256 * np.finfo(float).eps
 #: Halvings of a Newton correction the line search tries before taking its best trial.
@@ -157,10 +168,12 @@ class Products:
     Bt: object
     V: object
     BV: object
+    #: ``[M; K]``: the one sparse product of a step, ``M x`` and ``K x`` of the new displacements
+    MK: object
 
     @classmethod
     def of(cls, M, K, B, Bt, V) -> Products:
-        mats = (M, K, B, Bt, V, sp.vstack([B, V]).tocsr())
+        mats = (M, K, B, Bt, V, sp.vstack([B, V]).tocsr(), sp.vstack([M, K]).tocsr())
         if M.shape[0] < DENSE_BELOW:
             mats = tuple(np.asarray(A.toarray()) for A in mats)
         return cls(*mats)
@@ -326,17 +339,24 @@ class State:
     #: the laws' tangent blocks at ``d`` (fast path; None at the start and on the general path):
     #: the next step's predictor linearises the law forces with them
     tangents: list | None = None
+    #: ``[[M x, M v, M a], [K x, K v, K a]]`` (2, 3, n): the next step's right-hand side and this
+    #: step's energy and damping terms are combinations of them (:func:`effective_rhs`)
+    products: np.ndarray | None = None
+    #: with dF/dN (fast path): ``E`` at ``d`` (:func:`_coupling`; None: zero), for the predictor
+    coupling: np.ndarray | None = None
 
 
 def initial_state(p: Problem, law_states: tuple, load0: np.ndarray, a0: np.ndarray) -> State:
     """The preload at rest (``x = v = 0``) with start acceleration ``a0`` under the dynamic load ``load0``."""
     n = p.M.shape[0]
     zero = np.zeros(n)
+    products = np.zeros((2, 3, n))
+    products[:, 2] = (p.mul.MK @ a0).reshape(2, n)
     return State(
         t=0.0, x=zero, v=zero, a=a0, f=p.f0, d=p.d0, N=p.N0, law_states=law_states, load=load0,
-        Mv=zero, Kv=zero, energy=Energy(), Cv=zero, Ma=p.mul.M @ a0, Bt_phi=zero, G=-load0,
+        Mv=zero, Kv=zero, energy=Energy(), Cv=zero, Ma=products[0, 2], Bt_phi=zero, G=-load0,
         rho=zero,  # the scheme takes the start as balanced: any misfit of a0 counts as error
-        ae=a0,
+        ae=a0, products=products,
     )
 
 
@@ -351,19 +371,30 @@ class StepFailure(Exception):
         self.iterations = iterations
 
 
+def _predictors(scheme: Scheme, h: float) -> np.ndarray:
+    """``[xt; vt] = T [x; v; a]`` (2 x 3): Newmark's predictors from the last instant."""
+    return np.array([[1.0, h, h * h * (0.5 - scheme.beta)], [0.0, 1.0, h * (1.0 - scheme.gamma)]])
+
+
 def effective_rhs(p: Problem, s: State, h: float, load1: np.ndarray):
-    """``r`` of the module docstring and the predictors ``xt``, ``vt``."""
+    """``r`` of the module docstring and the predictors ``xt``, ``vt``.
+
+    ``M rm`` and ``K (...)`` are combinations of the products ``M [x, v, a]`` and ``K [x, v, a]``
+    the last step kept (:attr:`State.products`): no sparse product here."""
     al, ga, be = p.scheme.alpha, p.scheme.gamma, p.scheme.beta
     c = 1.0 + al
-    xt = s.x + h * s.v + (h * h * (0.5 - be)) * s.a
-    vt = s.v + (h * (1.0 - ga)) * s.a
-    w = (ga / (be * h)) * xt - vt
-    rm = xt / (be * h * h)
-    if p.a0:
-        rm = rm + (c * p.a0) * w + (al * p.a0) * s.v
-    r = p.mul.M @ rm + c * load1
-    if p.a1 or al:
-        r = r + p.mul.K @ ((c * p.a1) * w + (al * p.a1) * s.v + al * s.x)
+    T = _predictors(p.scheme, h)
+    xt, vt = T @ np.stack((s.x, s.v, s.a))
+    # rm = xt / (be h^2) + c a0 w + al a0 v,   rk = c a1 w + al a1 v + al x,   w = ga / (be h) xt - vt
+    m_xt, m_vt = 1.0 / (be * h * h) + c * p.a0 * ga / (be * h), -c * p.a0
+    k_xt, k_vt = c * p.a1 * ga / (be * h), -c * p.a1
+    weights = np.array(
+        [
+            [m_xt * T[0, 0], m_xt * T[0, 1] + m_vt + al * p.a0, m_xt * T[0, 2] + m_vt * T[1, 2]],
+            [k_xt * T[0, 0] + al, k_xt * T[0, 1] + k_vt + al * p.a1, k_xt * T[0, 2] + k_vt * T[1, 2]],
+        ]
+    )
+    r = weights.reshape(6) @ s.products.reshape(6, -1) + c * load1
     if al:
         r = r - al * s.load
         if p.m:
@@ -372,7 +403,9 @@ def effective_rhs(p: Problem, s: State, h: float, load1: np.ndarray):
 
 
 def _finite(*arrays) -> bool:
-    return all(np.isfinite(a).all() for a in arrays)
+    # one sum per array: a NaN or an infinity makes it non-finite (a sum that merely overflows is
+    # then looked at element by element)
+    return all(math.isfinite(_sum(a, axis=None)) or np.isfinite(a).all() for a in arrays)
 
 
 def _inf(a: np.ndarray) -> float:
@@ -425,18 +458,31 @@ class Motion:
 
 def _tangent_times(blocks, vector: np.ndarray) -> np.ndarray:
     """``K_t @ vector`` block by block."""
+    if len(blocks) == 1 and blocks[0][1].shape[0] * blocks[0][1].shape[1] == vector.shape[0]:
+        t = blocks[0][1]  # one law for every row (the usual case)
+        if t.shape[1] == 1:
+            return t.reshape(-1) * vector
+        return (t @ vector.reshape(t.shape[0], -1, 1)).reshape(-1)
     out = np.empty_like(vector)
     for rows, t in blocks:
-        out[rows] = (t @ vector[rows].reshape(t.shape[0], -1, 1)).reshape(-1)  # batched: cheaper than einsum
+        if t.shape[1] == 1:  # 1-D law: a diagonal
+            out[rows] = t.reshape(-1) * vector[rows]
+        else:
+            out[rows] = (t @ vector[rows].reshape(t.shape[0], -1, 1)).reshape(-1)  # batched: cheaper than einsum
     return out
 
 
 def _times_tangent(matrix: np.ndarray, blocks) -> np.ndarray:
     """``matrix @ K_t`` block by block (``m x m`` dense times block diagonal)."""
-    out = np.empty_like(matrix)
     rows_m = matrix.shape[0]
+    if len(blocks) == 1 and blocks[0][1].shape[1] == 1 and blocks[0][1].shape[0] == matrix.shape[1]:
+        return matrix * blocks[0][1].reshape(-1)  # one 1-D law for every column: a diagonal
+    out = np.empty_like(matrix)
     for rows, t in blocks:
         n, d = t.shape[0], t.shape[1]
+        if d == 1:
+            out[:, rows] = matrix[:, rows] * t.reshape(-1)
+            continue
         # batched (n) products of (rows_m x d) by (d x d): far faster than the equivalent einsum
         out[:, rows] = np.matmul(matrix[:, rows].reshape(rows_m, n, d).transpose(1, 0, 2), t).transpose(1, 0, 2).reshape(
             rows_m, n * d
@@ -499,16 +545,34 @@ def _predict(p: Problem, op: Operator, s: State, d_lin: np.ndarray, N_lin: np.nd
     With the last step's tangents, the law forces linearised about its converged point,
     ``phi ~ phi_n + K_t (d - d_n)``, put in ``g(d) = 0``: ``(I + c S K_t) d = d_lin - c S (phi_n - K_t d_n)``.
     That is exact for a linear law (or a bearing still sticking), which then converges at its first
-    evaluation. Without tangents (the first step), or if that system is singular, the last law
-    forces held: ``d = d_lin - c S phi_n``.
+    evaluation. With dF/dN (``E`` nonzero at the last point: a coupled bearing sliding) the
+    linearisation includes ``E (nu - nu_n)`` and the coupled springs' ``nu = N / kv`` are unknowns
+    beside ``d`` (the Jacobian of the module docstring at the last point): a bearing that keeps
+    sliding under a changing normal force is then exact in 1-D too. Without tangents (the first
+    step), or if that system is singular, the last law forces held: ``d = d_lin - c S phi_n``.
     """
     m = p.m
     phi = s.f - p.f0
     if s.tangents is not None:
         held = phi - _tangent_times(s.tangents, s.d)
-        d = _solve_dense(op.eye + _times_tangent(op.cS, s.tangents), d_lin - op.cS @ held)
-        if d is not None and np.isfinite(d).all():
-            return d, N_lin + op.cNW @ (held + _tangent_times(s.tangents, d))
+        if s.coupling is not None:
+            nu_n = s.N[p.coupled] / p.kv_coupled
+            held = held - s.coupling @ nu_n
+            J = np.concatenate((_times_tangent(op.cSV, s.tangents), op.cSV @ s.coupling), axis=1)
+            J.flat[:: J.shape[0] + 1] += 1.0
+            rhs = op.cSV @ held
+            rhs[:m] = d_lin - rhs[:m]
+            rhs[m:] += N_lin[p.coupled] / p.kv_coupled
+            z = _solve_dense(J, rhs)
+            if z is not None and np.isfinite(z).all():
+                d, nu = z[:m], z[m:]
+                N = N_lin + op.cNW @ (held + _tangent_times(s.tangents, d) + s.coupling @ nu)
+                N[p.coupled] = p.kv_coupled * nu
+                return d, N
+        else:
+            d = _solve_dense(op.eye + _times_tangent(op.cS, s.tangents), d_lin - op.cS @ held)
+            if d is not None and np.isfinite(d).all():
+                return d, N_lin + op.cNW @ (held + _tangent_times(s.tangents, d))
     sn = op.cSN @ phi
     return d_lin - sn[:m], N_lin + sn[m:]
 
@@ -533,7 +597,7 @@ def _coupled_correction(p: Problem, op: Operator, trial: _FastTrial) -> tuple[np
 def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, force_scale: float, motion: Motion):
     x_lin = op.solve(r)
     if not p.m:
-        return x_lin, s.f, s.d, p.bearings(x_lin, motion.offset)[1], s.law_states, 0, 0, None
+        return x_lin, s.f, s.d, p.bearings(x_lin, motion.offset)[1], s.law_states, 0, 0, (None, None)
     d_lin, N_lin = p.bearings(x_lin, motion.offset)
     c = 1.0 + p.scheme.alpha
     size = max(_inf(d_lin), p.d0_size)
@@ -587,7 +651,7 @@ def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, for
         )
         if converged:
             states = tuple(rr.state for rr in trial.responses)
-            return x_lin - op.cW @ trial.phi, f, d, N, states, it, backtracks, trial.blocks
+            return x_lin - op.cW @ trial.phi, f, d, N, states, it, backtracks, (trial.blocks, trial.E)
         base = trial
         if coupled.size:
             # N of the coupled springs is a Newton unknown; the others' N follows the law forces
@@ -662,7 +726,7 @@ def _solve_general(
     c = 1.0 + p.scheme.alpha
     if not p.m:
         x = op.solve(r)
-        return x, s.f, s.d, p.bearings(x, motion.offset)[1], s.law_states, 0, 0, None
+        return x, s.f, s.d, p.bearings(x, motion.offset)[1], s.law_states, 0, 0, (None, None)
 
     def evaluate(x: np.ndarray) -> _GeneralTrial:
         d, N = p.bearings(x, motion.offset)
@@ -691,7 +755,7 @@ def _solve_general(
             and _inf(trial.R) <= p.tol_force * max(force_scale, _inf(f)) + _ROUND * max(_inf(r), c * _inf(trial.Bt_phi))
         )
         if converged:
-            return trial.x, f, d, trial.N, tuple(rr.state for rr in trial.responses), it, backtracks, None
+            return trial.x, f, d, trial.N, tuple(rr.state for rr in trial.responses), it, backtracks, (None, None)
         base = trial
         trial, k = _line_search(lambda lam, base=base, dx=dx: evaluate(base.x + lam * dx), base)
         backtracks += k
@@ -725,18 +789,22 @@ def step(
     else:
         motion = Motion(rate, offset=e)
     solver = _solve_fast if p.fast else _solve_general
-    x, f, d, N, law_states, iterations, backtracks, tangents = solver(p, op, s, r, h, force_scale, motion)
+    x, f, d, N, law_states, iterations, backtracks, (tangents, coupling) = solver(
+        p, op, s, r, h, force_scale, motion
+    )
     if not _finite(x):
         raise StepFailure("non-finite displacements", np.inf, np.ones(p.m), iterations)
     a = (x - xt) / (sch.beta * h * h)
     v = vt + (sch.gamma * h) * a
-    Mva = p.mul.M @ np.column_stack((v, a))  # one product for both
-    Mv, Ma = Mva[:, 0], Mva[:, 1]
-    if p.a1:
-        Kxv = p.mul.K @ np.column_stack((x, v))
-        Kx, Kv = Kxv[:, 0], Kxv[:, 1]
-    else:
-        Kx, Kv = p.mul.K @ x, s.Kv
+    # M and K times (x, v, a): one sparse product for x; v and a follow from x as in x-space
+    products = np.empty_like(s.products)
+    products[:, 0] = (p.mul.MK @ x).reshape(2, -1)
+    predicted = np.matmul(_predictors(sch, h), s.products)  # [[M xt, M vt], [K xt, K vt]]
+    np.subtract(products[:, 0], predicted[:, 0], out=products[:, 2])
+    np.divide(products[:, 2], sch.beta * h * h, out=products[:, 2])
+    np.multiply(products[:, 2], sch.gamma * h, out=products[:, 1])
+    np.add(predicted[:, 1], products[:, 1], out=products[:, 1])
+    (_, Mv, Ma), (Kx, Kv, _) = products
     Bt_phi = p.mul.Bt @ (f - p.f0) if p.m else s.Bt_phi
     damping1 = p.damping_force(Mv, Kv)
     G = damping1 + Kx + Bt_phi - load1
@@ -761,5 +829,7 @@ def step(
         rho1=rho,
     )
     ae = (a + al * s.ae) / (1.0 + al) if al else a
-    state = State(t1, x, v, a, f, d, N, law_states, load1, Mv, Kv, energy, damping1, Ma, Bt_phi, G, rho, ae, tangents)
+    state = State(
+        t1, x, v, a, f, d, N, law_states, load1, Mv, Kv, energy, damping1, Ma, Bt_phi, G, rho, ae, tangents, products, coupling
+    )
     return state, iterations, backtracks

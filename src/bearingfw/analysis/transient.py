@@ -370,7 +370,7 @@ def solve_transient(
     wall = _time.perf_counter()
     settings, damping = _checked_options(settings, damping)
     system, preload = _system_and_preload(system_or_model, preload, registry)
-    excitation = build_excitation(system, ground_acceleration, dt, nodal_loads)
+    excitation = build_excitation(system, ground_acceleration, dt, nodal_loads, preload=preload)
     k = _substeps(settings, excitation.dt)
     problem = build_problem(system, preload, damping, settings)
     probes = _bind_recorders(recorders, Context(system, preload, excitation, damping.alpha, damping.beta))

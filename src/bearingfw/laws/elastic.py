@@ -11,6 +11,11 @@ from bearingfw.laws.inputs import respond_inputs
 from bearingfw.parameters import check_per_bearing, dims_parameter, parameter
 from bearingfw.protocol import LawResponse
 
+#: identity blocks of the tangent, shared read-only (allocating one per call costs more than the law)
+_EYE = {d: np.eye(d) for d in (1, 2)}
+for _e in _EYE.values():
+    _e.setflags(write=False)
+
 
 @attrs.frozen
 class Frictionless:
@@ -63,5 +68,6 @@ class LinearSpring:
         n = u.shape[0]
         check_per_bearing(self, n)
         k = np.asarray(self.k, dtype=float)[..., None]  # (1,) or (n, 1): broadcasts over (n, dims)
-        tangent = np.broadcast_to(k[..., None] * np.eye(self.dims), (n, self.dims, self.dims))
-        return LawResponse(k * u, tangent.copy(), state)
+        tangent = np.empty((n, self.dims, self.dims))
+        tangent[...] = k[..., None] * _EYE[self.dims]
+        return LawResponse(k * u, tangent, state)

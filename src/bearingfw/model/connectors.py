@@ -445,24 +445,24 @@ class ConnectorOperators:
         contact = np.maximum(N_springs, 0.0)
         if reference is not None:
             d = d - reference
-        if not self.any_velocity:
-            return [
-                g.law.respond(state, u, contact[g.springs], dt)
-                for g, state, u in zip(self.groups, states, self.split(d), strict=True)
-            ]
         out = []
-        for g, state, u in zip(self.groups, states, self.split(d), strict=True):
+        for g, state in zip(self.groups, states, strict=True):
+            u = d[g.rows].reshape(g.n, g.dims)
             if g.velocity:
                 v = np.zeros_like(u) if velocity is None else velocity[g.rows].reshape(g.n, g.dims)
-                out.append(g.law.respond(state, u, contact[g.springs], dt, velocity=v))
+                response = g.law.respond(state, u, contact[g.springs], dt, velocity=v)
             else:
-                out.append(g.law.respond(state, u, contact[g.springs], dt))
+                response = g.law.respond(state, u, contact[g.springs], dt)
+            _check_response(g, response)
+            out.append(response)
         return out
 
     def forces(self, responses: Sequence[LawResponse]) -> np.ndarray:
         """Flat law forces aligned with the rows of ``B`` (assemble with ``B.T @ f``)."""
         if not self.groups:
             return np.zeros(0)
+        if len(responses) == 1:  # one law for every bearing (the usual case): no copy
+            return np.asarray(responses[0].force, dtype=float).reshape(-1)
         return np.concatenate([np.asarray(r.force, dtype=float).reshape(-1) for r in responses])
 
     def tangent_blocks(self, responses: Sequence[LawResponse], rate: float = 0.0) -> list[np.ndarray]:
@@ -527,6 +527,44 @@ class ConnectorOperators:
             i_side, j_side = (tuple(int(d) for d in self.translations[c, s]) for s in (0, 1))
             eqs.append(Equation(dofs, coeffs, "connector", c, k, (j_side, i_side)))
         return eqs
+
+
+def _has_shape(array, shape: tuple) -> bool:
+    """An optional array of a response: absent (None), or an ndarray of ``shape``."""
+    return array is None or (type(array) is np.ndarray and array.shape == shape)
+
+
+def _check_response(g: LawGroup, response) -> None:
+    """Refuse a response whose arrays do not have the shapes the protocol gives (a wrong shape would
+    otherwise broadcast into a numpy error, or a plausible answer, far from the law that made it)."""
+    n, dims = g.n, g.dims
+    force, tangent = getattr(response, "force", None), getattr(response, "tangent", None)
+    if (  # the usual case, in a few attribute reads
+        type(force) is np.ndarray
+        and type(tangent) is np.ndarray
+        and force.shape == (n, dims)
+        and tangent.shape == (n, dims, dims)
+        and (not g.coupling or _has_shape(response.dforce_dnormal, (n, dims)))
+        and (not g.velocity or _has_shape(response.dforce_dvelocity, (n, dims, dims)))
+    ):
+        return
+    try:
+        shapes = [("force", np.shape(response.force), (n, dims)), ("tangent", np.shape(response.tangent), (n, dims, dims))]
+        if g.coupling and response.dforce_dnormal is not None:
+            shapes.append(("dforce_dnormal", np.shape(response.dforce_dnormal), (n, dims)))
+        if g.velocity and response.dforce_dvelocity is not None:
+            shapes.append(("dforce_dvelocity", np.shape(response.dforce_dvelocity), (n, dims, dims)))
+    except AttributeError:
+        raise ModelError(
+            f"law {getattr(g.law, 'name', type(g.law).__name__)!r}: respond() must return a LawResponse, got "
+            f"{type(response).__name__}"
+        ) from None
+    for field, got, expected in shapes:
+        if got != expected:
+            raise ModelError(
+                f"law {getattr(g.law, 'name', type(g.law).__name__)!r}: respond() returned {field!r} of shape {got} "
+                f"for {n} connector(s) with dims = {dims}; it must have shape {expected}"
+            )
 
 
 def _group_key(con: Connector, registry: Registry) -> tuple:

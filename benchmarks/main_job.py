@@ -6,11 +6,14 @@ Usage::
     python benchmarks/main_job.py             # the default study (several minutes of CPU, three times)
     python benchmarks/main_job.py --quick     # a reduced study: 2 models (M1, M2) x 2 levels (D_0, D_II)
     python benchmarks/main_job.py --json      # the same as one JSON document on stdout
+    python benchmarks/main_job.py --figures all   # runs 1 and 3 with every figure (default: the study's own)
 
 Measured, each into a new temporary results directory:
 
-1. ``bearingfw run`` as a subprocess with the executor a user gets (``--executor`` and
-   ``--workers`` pass through; default: none given): its wall time and CPU seconds in all, the
+1. ``bearingfw run`` as a subprocess with the executor a user gets (``--executor``,
+   ``--workers`` and ``--figures`` pass through; default: none given, so the study's own
+   ``[figures]``: PNG files of the figures the report shows, drawn while the cells run): its wall
+   time and CPU seconds in all, the
    ``bearingfw`` process and its worker processes (``resource.getrusage(RUSAGE_CHILDREN)``, which
    holds every descendant that was waited for), next to the issue's target (40 CPU s).
 2. The same with the figures off: ``--figures none`` when the CLI offers it, else its older
@@ -294,7 +297,8 @@ def report(result: dict) -> str:
     from step_cost import describe
 
     lines = [
-        f"main job: bearingfw run, {result['study']}, into a new directory; executor: {result['executor']}",
+        f"main job: bearingfw run, {result['study']}, into a new directory; executor: {result['executor']}; "
+        f"figures: {result.get('figures', 'the study default')}",
         f"machine: {describe(m)}",
         "",
         f"{'':28} {'CPU s':>8} {'wall s':>8} {'target CPU s':>12} {'files':>6} {'load':>5}",
@@ -337,6 +341,8 @@ def main(argv=None) -> int:
                         help=f"a reduced study: models {', '.join(QUICK_MODELS)} x levels {', '.join(QUICK_LEVELS)}")
     parser.add_argument("--executor", default=None, help="passed to bearingfw run (default: its own default)")
     parser.add_argument("--workers", type=int, default=None, help="passed to bearingfw run (default: its own default)")
+    parser.add_argument("--figures", choices=("none", "report", "all"), default=None,
+                        help="passed to bearingfw run in runs 1 and 3 (default: the study's [figures] draw)")
     parser.add_argument("--json", action="store_true", help="print one JSON document instead of the tables")
     parser.add_argument("--keep", action="store_true", help="keep the temporary results directories (their path is printed)")
     args = parser.parse_args(argv)  # fmt: skip
@@ -360,9 +366,11 @@ def main(argv=None) -> int:
         if not args.json:
             print(f"running {result['study']} three times (all, figures off, profiled); load average "
                   f"{result['machine']['load_average']:.1f} on {result['machine']['cores']} cores", flush=True)  # fmt: skip
-        result["run"] = timed_run(study, folder / "all", executor)
+        drawn = ["--figures", args.figures] if args.figures else []
+        result["figures"] = args.figures or "the study's [figures] draw"
+        result["run"] = timed_run(study, folder / "all", [*executor, *drawn])
         result["figures_off"] = timed_run(study, folder / "figures-off", [*executor, *off[0]]) if off else None
-        result["profile"] = profiled_run(study, folder / "profiled", [])
+        result["profile"] = profiled_run(study, folder / "profiled", drawn)
         result["machine"]["load_average_after"] = os.getloadavg()[0]
         if args.json:
             print(json.dumps(result, indent=2, default=str))

@@ -22,7 +22,8 @@ def _relative(summary, root) -> list[Path]:
 
 
 def test_figures_drawn_in_processes_equal_those_drawn_here(tmp_path):
-    experiment = load_experiment(write_tiny(tmp_path / "spec", models=("M1", "M2"), levels=("D_0",), figures=True))
+    experiment = load_experiment(write_tiny(tmp_path / "spec", models=("M1", "M2"), levels=("D_0",), figures=True,
+                                            **{"draw = true": 'draw = "all"\nformats = ["png", "svg"]'}))
     here = tmp_path / "here"
     serial = run_experiment(experiment, here, SerialExecutor())  # figures one after the other, in this process
     pooled = tmp_path / "pooled"

@@ -27,7 +27,8 @@ def add_parser(subparsers) -> None:
             "synthetic mining tremor scaled to D_0 .. D_IV). Each (model, record, intensity) cell is a time-history "
             "analysis, stored as soon as it finishes with a hash of its inputs: a rerun computes only the cells that "
             "are missing, failed, or whose inputs changed, so an interrupted run just continues. Then the comparison "
-            "matrices (matrices.json, CSVs), figures (PNG, SVG) and report.md are written to the output directory, "
+            "matrices (matrices.json, CSVs), figures (PNG; [figures] formats adds SVG, PDF; the figures of an "
+            "intensity are drawn as soon as its cells are done) and report.md are written to the output directory, "
             "which one run at a time writes into (a lock) and which belongs to one experiment (see --take-over).",
             width=88,
         ),
@@ -78,7 +79,10 @@ def add_parser(subparsers) -> None:
                         help="run only this model's cells (repeat for several); the matrices show all finished cells")
     parser.add_argument("--levels", action="append", metavar="INTENSITY",
                         help="run only this intensity's cells, e.g. D_II (repeat for several)")
-    parser.add_argument("--no-figures", action="store_true", help="skip the figures (faster)")
+    parser.add_argument("--figures", choices=("none", "report", "all"), metavar="{none,report,all}",
+                        help="which figures to draw, overriding the file's [figures] draw: none, report (those "
+                        "report.md shows: the default) or all (with every model's bearing hysteresis sheets)")
+    parser.add_argument("--no-figures", action="store_true", help="the same as --figures none")
     parser.add_argument("--quiet", action="store_true", help="no progress and no tables (errors only)")
     parser.add_argument("--json", action="store_true", help="print a JSON summary at the end")
     parser.set_defaults(func=run)
@@ -126,8 +130,11 @@ def _experiment(args):
         changes.update(_own_structure(experiment, args.structure, args.option))
     if args.reference:
         changes["reference"] = args.reference
-    if args.no_figures:
-        changes["figures"] = attrs.evolve(changes.get("figures", experiment.figures), draw=False)
+    if args.no_figures and args.figures not in (None, "none"):
+        raise ParameterError(f"--no-figures and --figures {args.figures} contradict each other; give one")
+    draw = "none" if args.no_figures else args.figures
+    if draw is not None:
+        changes["figures"] = attrs.evolve(changes.get("figures", experiment.figures), draw=draw)
     if changes:
         try:
             experiment = attrs.evolve(experiment, **changes)

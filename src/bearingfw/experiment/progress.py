@@ -1,4 +1,6 @@
-"""The progress display of a run: cells done of total, the last cell, elapsed time and an ETA.
+"""The progress display of a run: cells done of total, the last cell, elapsed time and an ETA; then
+each figure as it is drawn (during the cells, a record and intensity's figures are drawn as soon
+as its cells are done).
 
 One line on stderr, rewritten in place on a terminal (a new line per cell otherwise, so that logs
 stay readable). The ETA weighs what is left by model: cells of one model cost about the same
@@ -10,6 +12,7 @@ finished cells. The remaining work is shared by the workers.
 from __future__ import annotations
 
 import sys
+import threading
 import time
 from collections import Counter, defaultdict
 from collections.abc import Mapping, Sequence
@@ -55,17 +58,21 @@ class Progress:
         self.workers = 1
         self.start = time.perf_counter()
         self.open = False  # a live line is on screen without its newline
+        self.figures = 0  # figures drawn so far
+        self.figure_time = 0.0
+        self._lock = threading.Lock()  # figures are reported from a drawing thread
 
     def _print(self, text: str, rewrite: bool = False) -> None:
         """Print a line; ``rewrite``: on a terminal, in place of the previous such line, and left open."""
         if self.quiet:
             return
-        if rewrite and self.live:
-            print("\r\033[K" + text[:200], end="", file=self.stream, flush=True)
-            self.open = True
-            return
-        print(("\r\033[K" if self.open else "") + text, file=self.stream, flush=True)
-        self.open = False
+        with self._lock:
+            if rewrite and self.live:
+                print("\r\033[K" + text[:200], end="", file=self.stream, flush=True)
+                self.open = True
+                return
+            print(("\r\033[K" if self.open else "") + text, file=self.stream, flush=True)
+            self.open = False
 
     def begin(self, models: Sequence[str], skipped: int, executor: str, workers: int, thinned: int = 0) -> None:
         """``models``: the model of every cell to run; ``skipped``: cells already finished (``thinned``
@@ -94,6 +101,16 @@ class Progress:
                 f"{format_duration(elapsed)}" + ("" if eta is None or self.done == self.total else
                                                  f" | ETA {format_duration(eta)}"))
         self._print(line, rewrite=summary.status == "ok" and self.done < self.total)
+
+    def figure(self, stem: str, seconds: float) -> None:
+        """Figure ``stem`` was drawn, in ``seconds``."""
+        with self._lock:
+            self.figures += 1
+            self.figure_time += seconds
+            count = self.figures
+        cells = f" | cells {self.done}/{self.total}" if self.done < self.total else ""
+        self._print(f"[figure {count}] {stem} ({seconds:.1f} s){cells} | elapsed "
+                    f"{format_duration(time.perf_counter() - self.start)}", rewrite=True)
 
     def note(self, message: str) -> None:
         """A line about the run's later steps (after the cells)."""

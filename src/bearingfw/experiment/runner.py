@@ -13,7 +13,8 @@ findings, figures and report from everything the store holds.
    and it must hold this experiment, :meth:`~bearingfw.experiment.store.Store.claim`);
    :func:`_work`: keep the finished cells (unless ``force``), thin the stored histories where only
    ``[output] every`` grew, and run the others on the executor (each is committed to the store as
-   it finishes);
+   it finishes); meanwhile a record and intensity's figures are drawn, in a thread of this
+   process, as soon as its cells are finished (:class:`~bearingfw.experiment.figures.FigureDrawer`);
 3. :func:`_post_process`, from the store: :func:`_results` reads every cell back and writes the
    matrices (``matrices.json``, CSVs, ``units.json``), the records' measures and the modal results
    of each model; the findings are checked on the matrices; :func:`_draw` draws the figures and
@@ -348,22 +349,39 @@ def run_experiment(
         progress.begin([j.model for j in work.todo], len(work.skipped), executor.name,
                        min(executor.workers, max(1, len(work.todo))), thinned=len(work.thinned))
         run_start = time.perf_counter()
+        early = _early_figures(experiment, checked, store, work.todo, executor, progress)
+
+        def finished(cell) -> None:
+            progress.cell(cell)
+            if early is not None:
+                early.cell(cell.id)
+
+        todo = work.todo
+        if early is not None:  # a record and intensity's figures wait for all its cells: run them group by group
+            groups = [(r, i.name) for i in checked.intensities for r in experiment.record_names]
+            order = {group: k for k, group in enumerate(groups)}
+            todo = sorted(work.todo, key=lambda j: order.get((j.record, j.intensity.name), len(order)))
         try:
-            executor.run(work.todo, store, progress.cell)
+            executor.run(todo, store, finished)
         except BaseException:
+            if early is not None:  # the figure being written is finished (never a part of a file), no more
+                early.stop(wait_for_queued=False)
             _write_manifest(store, experiment, executor, jobs, every, "stopped")
             raise
         run_time = time.perf_counter() - run_start
         try:
-            summary = _post_process(experiment, checked, store, work, executor, progress, wall, run_time)
+            summary = _post_process(experiment, checked, store, work, executor, progress, wall, run_time, early)
         except BaseException:
+            if early is not None:
+                early.stop(wait_for_queued=False)
             # The cells are safe in the store; say in the manifest that the summary step did not finish.
             _write_manifest(store, experiment, executor, jobs, every, "post-processing failed")
             raise
         store.write_json("summary.json", summary.to_dict())
         _write_manifest(store, experiment, executor, jobs, every, "finished")
     progress.finish(f"{len(work.todo)} cell(s) run in {format_duration(run_time)}, {len(work.skipped)} kept, "
-                    f"{len(summary.failed)} failed, {len(summary.suspect)} suspect, {len(summary.missing)} not computed; results in {store.root}")
+                    f"{len(summary.failed)} failed, {len(summary.suspect)} suspect, {len(summary.missing)} not computed, "
+                    f"{getattr(progress, 'figures', 0)} figure(s) drawn; results in {store.root}")
     return summary
 
 
@@ -467,16 +485,22 @@ def _friction_coefficient(experiment: Experiment, model: Model, name: str, beari
 
 def figure_plan(experiment: Experiment, checked: Checked, chart) -> dict:
     """What :func:`~bearingfw.experiment.figures.write_figures` draws: ``[figures]`` with its defaults
-    filled in from the structure (the first two response elements, the first governed bearing, all models)."""
+    filled in from the structure (the first two response elements, the first governed bearing, all
+    models); the model drawn on top is the experiment's reference if the figures compare it, else
+    the first compared one."""
     figures = experiment.figures
     bearing = figures.bearing or next(iter(checked.bearings or checked.connectors), None)
+    compare = figures.compare or experiment.model_names
     return {
+        "draw": figures.draw,
+        "formats": figures.formats,
+        "reference": experiment.reference_model if experiment.reference_model in compare else compare[0],
         "records": {r.name: checked.records[r.name].synthetic for r in experiment.records},
         "intensities": figures.intensities or tuple(i.name for i in checked.intensities),
         "models": experiment.model_names,
         "elements": figures.elements if figures.elements is not None else checked.elements[:2],
         "bearing": bearing,
-        "compare": figures.compare or experiment.model_names,
+        "compare": compare,
         "mu": {name: _friction_coefficient(experiment, model, name, bearing) for name, model in checked.models.items()},
         "hysteresis": figures.hysteresis,
         "table": checked.table,
@@ -484,14 +508,48 @@ def figure_plan(experiment: Experiment, checked: Checked, chart) -> dict:
     }
 
 
+def _draws(experiment: Experiment) -> bool:
+    # the figures draw the cells' histories: without stored histories there is nothing to draw
+    return experiment.figures.draw != "none" and experiment.output.histories
+
+
+def _early_figures(experiment: Experiment, checked: Checked, store: Store, todo, executor, progress: Progress):
+    """A :class:`~bearingfw.experiment.figures.FigureDrawer` that draws each record and intensity's
+    figures as soon as this run's cells of it are finished (None: no figures, or the serial
+    executor, whose cells keep this process busy: its figures are drawn after them)."""
+    from bearingfw.experiment.figures import FigureDrawer
+
+    if not _draws(experiment) or not todo or executor.name == "serial":
+        return None
+    every = recording(experiment)
+    groups: dict = {}
+    plan = {**figure_plan(experiment, checked, None), "every": every}
+    shown = set(plan["models"] if plan["draw"] == "all" and plan["hysteresis"] else plan["compare"])
+    for job in todo:
+        if job.model in shown:  # a group's figures wait only for the cells they show
+            groups.setdefault((job.record, job.intensity.name), set()).add(job.id)
+    wanted = set(plan["intensities"])
+    groups = {g: ids for g, ids in groups.items() if g[1] in wanted}
+
+    def accept(document: dict) -> bool:
+        return document.get("status") == "ok" and store.is_finished(document["id"], document["digest"], every)
+
+    return FigureDrawer(store, plan, groups, accept, progress)
+
+
 def _draw(experiment: Experiment, checked: Checked, store: Store, results: _Results, executor,
-          progress: Progress) -> list:
-    """The figures, from the histories stored for the current inputs of the finished cells."""
+          progress: Progress, early=None) -> list:
+    """The figures, from the histories stored for the current inputs of the finished cells (those
+    ``early`` drew while the cells ran are not drawn again)."""
     from bearingfw.experiment.figures import write_figures
     from bearingfw.motion.plot import plot_intensity_chart
 
-    if not (experiment.figures.draw and experiment.output.histories):
-        return []  # the figures draw the cells' histories: without stored histories there is nothing to draw
+    drawn = {}
+    if early is not None:
+        early.stop()
+        drawn = early.drawn()
+    if not _draws(experiment):
+        return []
     synthetic = next((checked.records[r] for r in experiment.record_names if checked.records[r].synthetic), None)
     scale = get_scale(experiment.intensities.scale, checked.registry)
     points = results.points
@@ -501,9 +559,8 @@ def _draw(experiment: Experiment, checked: Checked, store: Store, results: _Resu
     cells = {(d["model"], d["record"], d["intensity"]): d for d in results.done
              if d.get("status") == "ok" and store.is_finished(d["id"], d["digest"], every)}
     workers = local_workers(executor)
-    progress.note(f"drawing the figures ({workers} process(es))")
     plan = {**figure_plan(experiment, checked, chart), "every": every}
-    return write_figures(store, plan, results.matrices, cells, workers)
+    return write_figures(store, plan, results.matrices, cells, workers, drawn=drawn, progress=progress)
 
 
 def _write_report(experiment: Experiment, checked: Checked, store: Store, jobs, results: _Results, summary,
@@ -519,11 +576,11 @@ def _write_report(experiment: Experiment, checked: Checked, store: Store, jobs, 
 
 
 def _post_process(experiment: Experiment, checked: Checked, store: Store, work: _Work, executor,
-                  progress: Progress, wall: float, run_time: float) -> RunSummary:
+                  progress: Progress, wall: float, run_time: float, early=None) -> RunSummary:
     """Matrices, records and modal information, findings, figures, report and summary of a run whose cells are done."""
     results = _results(experiment, checked, store, work.jobs)
     findings = check_findings(experiment.findings, results.matrices)
-    figures = _draw(experiment, checked, store, results, executor, progress)
+    figures = _draw(experiment, checked, store, results, executor, progress, early)
     files = {**results.files, "figures": [str(p) for p in figures]}
     summary = RunSummary(
         experiment.name, str(store.root), executor.name, executor.workers, len(work.jobs),

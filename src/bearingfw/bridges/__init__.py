@@ -20,8 +20,11 @@ six times faster than the paper's 1.57 -> 1.60 at 400 MN/m); a tied arch (bearin
 4 to 11 MN against 3.25 MN capacity); Abaqus PLANAR kinematics, which also tie the rotations
 about the in-plane axes (+1.8 %); every bearing welded (+9 %, lateral 3.7 Hz). The paper's
 figures with the geometry are missing; what its Abaqus model did differently is not in the text.
-As a consequence the least-squares stick stiffness of step 1 is larger than the paper's 400 MN/m:
-nothing in the first vertical mode stops it (see :mod:`bearingfw.bridges.study`).
+As a consequence the unbounded least-squares stick stiffness of step 1 is far larger than the
+paper's 400 MN/m (7.3 GN/m): nothing in the first vertical mode stops it. ``bearingfw tune``
+therefore fits with the paper's stop as an explicit upper bound
+(:func:`bearingfw.bridges.study.calibrate_ks_as_paper`), and that value is :data:`DEFAULT_KS`,
+the K_s of the presets and of the default study (:data:`KS_SOURCE` says so wherever it is shown).
 """
 
 from bearingfw.bridges import paper
@@ -29,6 +32,7 @@ from bearingfw.bridges.layout import ABUTMENT_AXES, AXES, BEARINGS, FIXED_AXIS, 
 from bearingfw.bridges.parameters import CALIBRATED, BridgeParameters
 from bearingfw.bridges.presets import (
     DEFAULT_KS,
+    KS_SOURCE,
     PRESETS,
     Preset,
     bearing_laws,
@@ -57,6 +61,7 @@ __all__ = [
     "DECK_SHARE",
     "DEFAULT_KS",
     "FIXED_AXIS",
+    "KS_SOURCE",
     "PILLAR_AXES",
     "PRESETS",
     "RESPONSE_ELEMENTS",

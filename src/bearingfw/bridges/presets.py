@@ -39,6 +39,7 @@ from bearingfw.plugins import BearingPreset, PresetBearing, Registry, UnknownPre
 
 __all__ = [
     "DEFAULT_KS",
+    "KS_SOURCE",
     "PRESETS",
     "Preset",
     "bearing_laws",
@@ -53,6 +54,14 @@ __all__ = [
 #: models. Step 1 on this model (``bearingfw tune``) fits its own value; with the paper's, M1
 #: already meets Table 3's outcome here (every frequency within 8 % of the measured ones).
 DEFAULT_KS = KS_FIT
+#: Where :data:`DEFAULT_KS` comes from, as ``bearingfw tune``, ``bearingfw modal`` and the default study's report
+#: state it (:func:`bearingfw.bridges.study.calibrate_ks_as_paper` computes it).
+KS_SOURCE = (
+    "step 1 as the paper did it (section 3.3): the least squares of K_s against the measured frequencies of "
+    "Table 2, stopped at the paper's 400 MN/m, above which the paper's first vertical frequency rose too much; "
+    "'bearingfw tune' states that stop as an explicit upper bound of the fit (this frame model's first vertical "
+    "frequency hardly depends on K_s, so the bound, not that frequency, ends the fit here)"
+)
 
 LawSpec = tuple[str, dict] | None
 

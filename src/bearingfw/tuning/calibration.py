@@ -48,7 +48,7 @@ from bearingfw.tuning.pairing import (
     paired_shapes,
 )
 
-__all__ = ["JACOBIAN_STEP", "CalibrationReport", "Variable", "calibrate", "evaluate"]
+__all__ = ["BOUND_SNAP", "JACOBIAN_STEP", "CalibrationReport", "Variable", "calibrate", "evaluate"]
 
 #: Residual of a measurement that finds no computed mode at a trial point (a 100 % error).
 _UNPAIRED = 1.0
@@ -56,6 +56,8 @@ _UNPAIRED = 1.0
 #: log p or p). Far above the eigensolver's round-off (~1e-12 relative), far below the scale on
 #: which the frequencies curve.
 JACOBIAN_STEP = 1e-5
+#: A fitted variable this close to a bound (in the scaled variable, 1e-8 of its range) is on it.
+BOUND_SNAP = 1e-8
 
 
 @attrs.frozen
@@ -88,11 +90,24 @@ class Variable:
         return 1.0 + (value - self.low) / (self.high - self.low)
 
     def from_x(self, x: float) -> float:
+        if x <= 1.0 or x >= 2.0:  # exactly the bound, not exp(log(.)) of it
+            return self.low if x <= 1.0 else self.high
         if self.logarithmic:
             value = self.low * math.exp((x - 1.0) * math.log(self.high / self.low))
         else:
             value = self.low + (x - 1.0) * (self.high - self.low)
         return min(max(value, self.low), self.high)
+
+
+def _on_bounds(x: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """``x`` with each variable that stopped within :data:`BOUND_SNAP` of a bound put on it.
+
+    Why: a bounded least squares keeps its iterates strictly inside (scipy's trust region
+    reflective), so an optimum on a bound comes back a hair inside it (``399999999.7`` for a
+    bound of 4e8); a value on its bound is what a constrained fit means and what users compare.
+    """
+    x = np.asarray(x, dtype=float)
+    return np.where(upper - x <= BOUND_SNAP, upper, np.where(x - lower <= BOUND_SNAP, lower, x))
 
 
 def _variables(variables: Mapping[str, Sequence[float]]) -> tuple[Variable, ...]:
@@ -281,7 +296,12 @@ def calibrate(
         residuals, x0, jac=jacobian, bounds=(lower, upper), xtol=tolerance, ftol=tolerance, gtol=tolerance,
         max_nfev=max(1, max_evaluations // (1 + len(vs))),
     )
-    end = run(fit.x)
+    x_end = _on_bounds(fit.x, lower, upper)
+    end = run(x_end)
+    if end is not None and not np.array_equal(x_end, fit.x):
+        inside = run(fit.x)
+        if inside is not None and np.sum(residuals(x_end) ** 2) > np.sum(residuals(fit.x) ** 2) * (1 + 1e-9):
+            x_end, end = fit.x, inside  # the bound is no better: keep where the least squares stopped
     analyses = len(cache) - analyses
     if end is None:
         end = start
@@ -291,7 +311,7 @@ def calibrate(
     same_dofs = before_shapes.shape == after_shapes.shape
     return CalibrationReport(
         variables=vs,
-        values={v.name: v.from_x(xi) for v, xi in zip(vs, fit.x, strict=True)},
+        values={v.name: v.from_x(xi) for v, xi in zip(vs, x_end, strict=True)},
         before=pair0,
         after=pair1,
         modal_before=modal0,

@@ -101,7 +101,7 @@ def test_the_default_study_is_data_the_engine_runs():
     assert e.model_names == tuple(REFERENCE["models"]) and e.reference_model == "M2"
     assert [i.name for i in e.intensity_list] == REFERENCE["intensities"]
     assert e.structure.elements == ("S1", "S2", "2A", "3A", "4A", "5A", "2B", "3B", "4B", "5B")
-    assert e.figures.elements == ("S1", "3B") and e.figures.bearing == "3B" and e.figures.compare == ("M1", "M2")
+    assert e.figures.elements == ("S1", "3B") and e.figures.bearing == "3B" and e.figures.compare == ("M0", "M1", "M2")
     assert {f.group for f in e.findings} == {DYNAMIC, TOTAL}
 
 

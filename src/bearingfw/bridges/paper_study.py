@@ -162,12 +162,12 @@ every = 1                               # keep every k-th integration step in th
 report = true                           # write report.md
 
 [figures]
-draw = true
+draw = "report"                         # report | all | none; formats = ["png"] (also "svg", "pdf")
 # intensities = ["D_0", "D_II"]         # default: all
-elements = ["S1", "3B"]                 # stress histories of all models (figures 18 and 20)
+elements = ["S1", "3B"]                 # stress histories (figures 18 and 20)
 bearing = "3B"                          # its force and friction ratio (figures 19 and 21)
-compare = ["M1", "M2"]                  # models in the bearing-force figure (default: all)
-hysteresis = true                       # force-displacement loops of every bearing
+compare = ["M0", "M1", "M2"]            # the models of figures 18-21 (default: all); M2 drawn on top
+hysteresis = true                       # force-displacement loops of every bearing (with draw = "all")
 
 # Findings: statements checked on the matrices and reported with what they measured. Each names a
 # metric ("family.item"), a level (or a list: the statement for each), `models = [A, B]` (the

@@ -50,7 +50,15 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.spatial import cKDTree
 
-from bearingfw.analysis.static import BEARINGS, ConvergenceError, StaticResult, gravity, initial_tangent
+from bearingfw.analysis.static import (
+    BEARINGS,
+    ConvergenceError,
+    StiffnessRangeError,
+    StaticResult,
+    gravity,
+    initial_stiffness_error,
+    initial_tangent,
+)
 from bearingfw.model import COMPONENTS, DIRECTIONS, ModelError, System, as_system
 from bearingfw.model.dofs import NDOF_NODE
 from bearingfw.plugins import Registry
@@ -328,6 +336,9 @@ def solve_modal(
     get ``N = 0`` for their initial tangent (which for the built-in laws does not depend on
     ``N``); pass a ``preload`` to control it. ``about`` is the reference point of rotational
     participation, ``axis_y`` the deck axis used for the torsion label.
+
+    A law tangent that is not finite, or so stiff that the matrices lose the structure beside it,
+    raises :class:`~bearingfw.analysis.static.StiffnessRangeError` naming the law and the bearing.
     """
     system = as_system(model_or_system, registry)
     if bearings not in BEARINGS:  # checked here: a failing automatic preload only warns
@@ -339,6 +350,8 @@ def solve_modal(
     elif ops.groups:
         try:
             N = gravity(system, g=g, dt=dt, bearings=bearings).normal_forces
+        except StiffnessRangeError:  # bad input, not a preload to do without
+            raise
         except (ModelError, ConvergenceError) as exc:
             warnings.warn(
                 f"modal: gravity preload failed ({type(exc).__name__}: {exc}); laws get N = 0 for their initial "
@@ -346,7 +359,13 @@ def solve_modal(
                 stacklevel=2,
             )
     Kt = initial_tangent(system, N, dt)
-    lam, phi = eigen(Kt, system.M_free, n_modes, shift=shift, method=method)
+    try:
+        lam, phi = eigen(Kt, system.M_free, n_modes, shift=shift, method=method)
+    except ModelError as exc:  # a law so stiff that the eigensolver lost the structure: say so
+        error = initial_stiffness_error(system, N, dt, failure=f"eigen: {exc}")
+        if error is not None:
+            raise error from exc
+        raise
     shapes = np.asarray(system.expand(phi))
     gamma, meff, total = participation(system, shapes, DIRECTIONS, about)
     shares = energy_shares(system, shapes, axis_y)

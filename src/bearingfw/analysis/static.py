@@ -72,10 +72,14 @@ from bearingfw.model import ModelError, NodalLoad, System, as_system
 from bearingfw.model.connectors import normal_force
 from bearingfw.model.nodes import COMPONENTS
 from bearingfw.plugins import Registry
+from bearingfw.protocol import LawResponse
 
 __all__ = [
     "StaticResult",
     "ConvergenceError",
+    "StiffnessRangeError",
+    "check_law_tangents",
+    "initial_stiffness_error",
     "solve_static",
     "gravity",
     "factorize",
@@ -86,6 +90,8 @@ __all__ = [
     "PIVOT_RATIO",
     "SYMMETRIC_ORDERING",
     "STABILIZER",
+    "OUT_OF_RANGE",
+    "ACCURATE_CONTRAST",
 ]
 
 #: How bearings take part in a static analysis (module docstring).
@@ -104,10 +110,34 @@ STABILIZER = 1e-8
 _ROUNDOFF = 1024 * np.finfo(float).eps
 #: A tangent block of a law counts as having lost its stiffness below this fraction of its initial one.
 _LOST = 1e-9
+#: A law tangent beyond this multiple of the structure's stiffest diagonal term is out of range
+#: whatever the factors say: beside it the structure's own stiffness is below round-off (1 / eps).
+OUT_OF_RANGE = 1.0 / float(np.finfo(float).eps)
+#: The largest stiffness a bearing's error message allows, as a multiple of the structure's stiffest
+#: term: beyond it the round-off of the stiff term (eps times the contrast) reaches the static solve's
+#: tolerance (1e-10) and Newton no longer converges, although the factors may still be found.
+ACCURATE_CONTRAST = 1e5
 
 
 class ConvergenceError(RuntimeError):
     """Newton did not reach equilibrium (or the bearings' tangent lost the stiffness it needed)."""
+
+
+class StiffnessRangeError(ModelError):
+    """A bearing stiffness that the stiffness matrix cannot take: a law's tangent that is not finite,
+    or a law's tangent or a connector's ``vertical_stiffness`` so much stiffer than the structure that
+    the factors lose the structure in round-off (the matrix then looks singular, but the structure is
+    no mechanism). Bad input: a bearing that stiff is a fixed connection.
+
+    ``law`` (None for a vertical spring) and ``connector``: the names of the law and of the bearing;
+    ``value``: the stiffness; ``limit``: the largest stiffness (N/m) this structure resolves beside
+    it, None when unknown.
+    """
+
+    def __init__(self, message: str, law: str | None = None, connector: str | None = None,
+                 value: float | None = None, limit: float | None = None):
+        super().__init__(message)
+        self.law, self.connector, self.value, self.limit = law, connector, value, limit
 
 
 def _free_motion(K, lu=None, count: int = 8) -> np.ndarray:
@@ -135,6 +165,203 @@ def _describe_free(system: System | None, free: np.ndarray) -> str:
     if system is not None and free.size and system.n_free > int(free.max()):
         return ", ".join(system.dofmap.describe(int(d)) for d in system.free_dofs[free])
     return ", ".join(f"free DOF {int(d)}" for d in free)
+
+
+def _structure_stiffness(system: System) -> float:
+    """The stiffest diagonal term of the structure without the laws (``K_free``)."""
+    return float(abs(system.K_free.diagonal()).max(initial=0.0))
+
+
+def _block_sizes(g, tangent) -> np.ndarray | None:
+    """Per connector of group ``g``: the largest absolute term of its tangent block (NaN if any term
+    is NaN), or None for a tangent of the wrong shape (reported elsewhere, naming the law)."""
+    t = np.asarray(tangent, dtype=float)
+    if t.shape != (g.n, g.dims, g.dims):
+        return None
+    return np.abs(t).reshape(g.n, -1).max(axis=1, initial=0.0)
+
+
+def _assembled(system: System, blocks) -> sp.csr_matrix:
+    """``K_free + B_free^T K_t B_free`` (symmetrised) from per-group tangent blocks."""
+    ops = system.connectors
+    Kt = ops.tangent([LawResponse(None, t, None) for t in blocks])
+    Kt = (Kt + Kt.T) / 2
+    return (system.K_free + system.B_free.T @ Kt @ system.B_free).tocsr()
+
+
+def _capped(tangent, cap: float) -> np.ndarray:
+    """Tangent blocks with the eigenvalues of their symmetric part clipped to ``+-cap`` (the stiff
+    directions capped, the others kept: a block stiff along x but free along y stays free along y)."""
+    t = np.asarray(tangent, dtype=float)
+    values, vectors = np.linalg.eigh((t + np.swapaxes(t, 1, 2)) / 2)
+    values = np.clip(values, -cap, cap)
+    return np.einsum("nij,nj,nkj->nik", vectors, values, vectors)
+
+
+def _stiffness_error(system: System, blocks, failure: str | None = None) -> StiffnessRangeError | None:
+    """The error for the laws' tangent ``blocks`` (one per group) if one is out of range, else None.
+
+    Out of range: a term that is not finite; one beyond :data:`OUT_OF_RANGE` times the structure's
+    stiffest term; or, when the factors failed (``failure``: why), one stiffer than the structure's
+    stiffest term such that, with every law capped at that term, the structure stands (so it was
+    the stiff law, not a mechanism). The limit stated is where the factors' smallest pivot would fall
+    below :data:`PIVOT_RATIO` of a law that stiff (the capped matrix's smallest pivot over it), or
+    :data:`ACCURATE_CONTRAST` times the structure's stiffest term if that is lower.
+    """
+    ops = system.connectors
+    stiffest = _structure_stiffness(system)
+    worst = None  # (size, law name, connector name)
+    sizes_per_group = []
+    for g, t in zip(ops.groups, blocks, strict=True):
+        sizes = _block_sizes(g, t)
+        if sizes is None:
+            return None
+        bad = ~np.isfinite(sizes)
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            terms = np.asarray(t, dtype=float).reshape(g.n, -1)[k]
+            value = float(terms[~np.isfinite(terms)][0])
+            name = system.model.connectors[int(g.connectors[k])].name
+            return StiffnessRangeError(
+                f"law {g.law.name!r} of the bearing {name!r} returned a tangent stiffness {value} (not finite): the "
+                "stiffness matrix cannot be assembled; a law's tangent must be a finite number of N/m",
+                law=g.law.name, connector=name, value=value,
+            )
+        if sizes.size and (worst is None or sizes.max() > worst[0]):
+            k = int(np.argmax(sizes))
+            worst = (float(sizes[k]), g.law.name, system.model.connectors[int(g.connectors[k])].name)
+        sizes_per_group.append(sizes)
+    if worst is None or stiffest <= 0 or worst[0] <= stiffest:
+        return None  # no law is stiffer than the structure: a failure is the structure's (a mechanism)
+    absurd = worst[0] > OUT_OF_RANGE * stiffest
+    if not absurd and failure is None:
+        return None
+
+    def ratio_capped(cap: float) -> float:
+        """The factors' smallest pivot over the largest with every law tangent capped at ``cap``."""
+        capped = [_capped(t, cap) if z.size and z.max() > cap else t for t, z in zip(blocks, sizes_per_group, strict=True)]
+        try:
+            pivots = np.abs(spla.splu(_assembled(system, capped).tocsc()).U.diagonal())
+        except RuntimeError:
+            return 0.0
+        return float(pivots.min()) / float(pivots.max()) if pivots.max() > 0 else 0.0
+
+    # With the laws capped at the structure's stiffest term, does the structure stand? Then the stiff
+    # law, not a mechanism, made the factors fail. Far beyond the structure's stiffness the smallest
+    # pivot stays and the largest grows with the law's: the ratio falls as 1 / k, which gives the
+    # largest stiffness whose ratio stays above PIVOT_RATIO.
+    at_structure = ratio_capped(stiffest)
+    if at_structure < PIVOT_RATIO:
+        if not absurd:
+            return None  # a mechanism even with the laws capped: say mechanism
+        limit = None
+    else:
+        probe = min(worst[0], 1e4 * stiffest)
+        at_probe = ratio_capped(probe)
+        limit = probe * at_probe / PIVOT_RATIO if at_probe >= PIVOT_RATIO else stiffest * at_structure / PIVOT_RATIO
+        limit = min(limit, ACCURATE_CONTRAST * stiffest)
+    size, law, name = worst
+    allowed = (f"at most about {limit:.2g} N/m for this structure" if limit is not None
+               else f"at most {OUT_OF_RANGE:.1e} times the structure's stiffest term ({stiffest:.3g})")
+    return StiffnessRangeError(
+        f"law {law!r} of the bearing {name!r} has a tangent stiffness {size:.3g} N/m, {size / stiffest:.2g} times the "
+        f"stiffest term of the structure ({stiffest:.3g}): the stiffness matrix cannot resolve the structure beside "
+        f"it{f' ({failure})' if failure else ''}; this is not a mechanism. Allowed: a finite stiffness {allowed}; "
+        "a connection stiffer than that is a fixed one (a rigid law or a tie)",
+        law=law, connector=name, value=size, limit=limit,
+    )
+
+
+def _pivot_ratio(K) -> float:
+    """The smallest LU pivot of ``K`` over the largest (0 when SuperLU finds it singular)."""
+    try:
+        pivots = np.abs(spla.splu(K.tocsc()).U.diagonal())
+    except RuntimeError:
+        return 0.0
+    return float(pivots.min()) / float(pivots.max()) if pivots.size and pivots.max() > 0 else 0.0
+
+
+def _spring_stiffness_error(K, system: System, failure: str, stabilizer=None) -> StiffnessRangeError | None:
+    """After the factors of ``K`` (on the free DOFs of ``system``, holding its vertical springs) failed:
+    the error naming a connector whose ``vertical_stiffness`` is why, or None (then: a mechanism).
+
+    As for the laws (:func:`_stiffness_error`): with every spring capped at the stiffest term of the
+    rest of ``K``, does the structure stand? ``stabilizer``: the ``B_free^T B_free`` that the solve
+    added times :data:`STABILIZER` and the largest diagonal term (so, here, of the capped matrix)."""
+    ops = system.connectors
+    if K.shape != system.K_free.shape or not ops.spring_connectors.size:
+        return None
+    linear = ~ops.uplift
+    if not linear.any():
+        return None
+    kv = ops.kv[linear]
+    V = system.V_free[np.flatnonzero(linear)]
+    rest = (K - V.T @ sp.diags(kv) @ V).tocsr()
+    stiffest = float(abs(rest.diagonal()).max(initial=0.0))
+    k = int(np.argmax(kv))
+    if not (stiffest > 0 and kv[k] > stiffest):
+        return None
+
+    def capped(cap: float) -> float:
+        trial = rest + V.T @ sp.diags(np.minimum(kv, cap)) @ V
+        if stabilizer is not None:
+            trial = trial + STABILIZER * float(abs(trial.diagonal()).max(initial=0.0)) * stabilizer
+        return _pivot_ratio(trial)
+
+    at_structure = capped(stiffest)
+    if at_structure < PIVOT_RATIO:
+        return None
+    probe = min(float(kv[k]), 1e4 * stiffest)
+    at_probe = capped(probe)
+    limit = probe * at_probe / PIVOT_RATIO if at_probe >= PIVOT_RATIO else stiffest * at_structure / PIVOT_RATIO
+    limit = min(limit, ACCURATE_CONTRAST * stiffest)
+    name = system.model.connectors[int(ops.spring_connectors[np.flatnonzero(linear)[k]])].name
+    return StiffnessRangeError(
+        f"connector {name!r}: field 'vertical_stiffness' = {kv[k]:.3g} N/m is {kv[k] / stiffest:.2g} times the stiffest "
+        f"term of the rest of the structure ({stiffest:.3g}): the stiffness matrix cannot resolve the structure beside it "
+        f"({failure}); this is not a mechanism. Allowed: 0 < vertical_stiffness <= about {limit:.2g} N/m for this "
+        "structure (a connection stiffer than that is a fixed one)",
+        connector=name, value=float(kv[k]), limit=limit,
+    )
+
+
+def check_law_tangents(system: System, blocks) -> None:
+    """Raise :class:`StiffnessRangeError` naming the law, the bearing and the value if a law tangent
+    (``blocks``: one ``(n, dims, dims)`` array per group of ``system.connectors``) is not finite or
+    beyond :data:`OUT_OF_RANGE` times the structure's stiffest term. One pass over the blocks."""
+    stiffest = _structure_stiffness(system)
+    bound = OUT_OF_RANGE * stiffest if stiffest > 0 else np.inf
+    for g, t in zip(system.connectors.groups, blocks, strict=True):
+        sizes = _block_sizes(g, t)
+        if sizes is not None and not np.all(sizes <= bound):  # NaN fails too
+            error = _stiffness_error(system, blocks)
+            if error is not None:
+                raise error
+            return
+
+
+def initial_stiffness_error(
+    system: System, normal_forces: np.ndarray | None = None, dt: float = 1.0, failure: str | None = None
+) -> StiffnessRangeError | None:
+    """After a solve with the laws' initial tangents failed (``failure``: why): the
+    :class:`StiffnessRangeError` naming the law and bearing to blame, or None if no law's stiffness
+    explains it (then it is the structure's: a mechanism)."""
+    if not system.connectors.groups:
+        return None
+    return _stiffness_error(system, _initial_blocks(system, normal_forces, dt), failure=failure)
+
+
+def _factorize_with_laws(K, system: System, blocks, **options):
+    """:func:`factorize` of a matrix holding the laws' tangent ``blocks`` and the vertical springs: when
+    it fails, a law's or a spring's stiffness is named if that, not a mechanism, is why."""
+    try:
+        return factorize(K, system=system, **options)
+    except ModelError as exc:
+        reason = str(exc).partition("(")[2].partition(")")[0] or "singular factors"
+        error = _stiffness_error(system, blocks, failure=reason) or _spring_stiffness_error(K, system, reason)
+        if error is not None:
+            raise error from exc
+        raise
 
 
 def factorize(
@@ -177,16 +404,25 @@ def initial_tangent(system: System, normal_forces: np.ndarray | None = None, dt:
     zero law displacement (for bearings set after the dead load: at the dead-load position), at
     zero velocity; the uplift bearings' gap law closed (its ``kv``).
     ``normal_forces`` per connector (default zero) are passed to the laws.
+
+    Raises :class:`StiffnessRangeError` for a law tangent that is not finite or absurdly stiff
+    (:func:`check_law_tangents`).
     """
     ops = system.connectors
     if not ops.groups:
         return system.K_free
+    blocks = _initial_blocks(system, normal_forces, dt)
+    check_law_tangents(system, blocks)
+    return _assembled(system, blocks)
+
+
+def _initial_blocks(system: System, normal_forces: np.ndarray | None, dt: float) -> list[np.ndarray]:
+    """The laws' initial tangents per group (:func:`initial_tangent`)."""
+    ops = system.connectors
     N = np.zeros(ops.n_connectors) if normal_forces is None else np.asarray(normal_forces, dtype=float)
     zero = np.zeros(ops.n_governed)
     responses = ops.respond(ops.initial_states(), zero, N[ops.spring_connectors], dt)
-    Kt = ops.tangent(responses)
-    Kt = (Kt + Kt.T) / 2
-    return (system.K_free + system.B_free.T @ Kt @ system.B_free).tocsr()
+    return ops.tangent_blocks(responses)
 
 
 @attrs.frozen(eq=False)
@@ -347,9 +583,12 @@ def _force_scale(f: np.ndarray, f_law: np.ndarray) -> float:
 
 
 def _check_mechanism_with_laws(system: System, N_springs: np.ndarray, dt: float) -> None:
-    """Raise the mechanism error if the structure with the laws' initial tangents is singular."""
+    """Raise the mechanism error if the structure with the laws' initial tangents is singular (or
+    :class:`StiffnessRangeError` if a law's stiffness is why)."""
     if system.connectors.groups:
-        factorize(initial_tangent(system, _per_connector(system, N_springs), dt), system=system)
+        blocks = _initial_blocks(system, _per_connector(system, N_springs), dt)
+        check_law_tangents(system, blocks)
+        _factorize_with_laws(_assembled(system, blocks), system, blocks)
 
 
 def _lost_stiffness(system: System, responses, N_springs: np.ndarray, dt: float) -> list[str]:
@@ -375,6 +614,8 @@ def _active(system: System, f: np.ndarray, dt: float, tol: float, max_iter: int)
     """
     try:
         return _newton_active(system, f, dt, tol, max_iter, None)
+    except StiffnessRangeError:
+        raise
     except ModelError:
         N_start = _carried_normal_forces(system, f)
         if N_start is None:
@@ -419,11 +660,13 @@ def _newton_active(system: System, f: np.ndarray, dt: float, tol: float, max_ite
                 f"solve_static: no equilibrium after {max_iter} Newton iterations "
                 f"(residual {np.max(np.abs(residual)):.3g} vs force scale {scale:.3g})"
             )
+        blocks = ops.tangent_blocks(responses)
+        check_law_tangents(system, blocks)
         Kt = system.K_free + system.B_free.T @ ops.tangent(responses) @ system.B_free
         try:
-            lu = factorize(Kt, system=system)
+            lu = _factorize_with_laws(Kt, system, blocks)
         except ModelError as exc:
-            if iteration == 0:  # the laws' initial tangents: a mechanism of the structure
+            if iteration == 0 or isinstance(exc, StiffnessRangeError):  # a mechanism of the structure, or a law
                 raise
             slipping = _lost_stiffness(system, responses, N, dt)
             raise ConvergenceError(
@@ -450,7 +693,17 @@ def _set_after_dead_load(system: System, f: np.ndarray, dt: float, tol: float, m
     # A tiny stiffness in the governed directions fixes the motions only the bearings restrain;
     # the refinement below removes its force from everything the load deforms.
     kappa = STABILIZER * max(float(abs(K.diagonal()).max(initial=0.0)), 1e-300)
-    lu = factorize(K + kappa * (system.B_free.T @ system.B_free), system=system)
+    governed = system.B_free.T @ system.B_free
+    try:
+        lu = factorize(K + kappa * governed, system=system)
+    except StiffnessRangeError:
+        raise
+    except ModelError as exc:  # a vertical spring too stiff for the factors (its kappa too)? else a mechanism
+        reason = str(exc).partition("(")[2].partition(")")[0] or "singular factors"
+        stiff = _spring_stiffness_error(K, system, reason, stabilizer=governed)
+        if stiff is not None:
+            raise stiff from exc
+        raise
     q = np.zeros(system.n_free)
     scale = max(_force_scale(f, np.zeros(0)), 1e-300)
     previous = np.inf

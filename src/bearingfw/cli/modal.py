@@ -64,12 +64,14 @@ def modal_data(
     """The ``--json`` object and the modal result of the reference bridge (``options``: those of
     :func:`bearingfw.structures.reference_parameters`, besides ``model`` and ``ks``)."""
     from bearingfw.analysis import solve_modal
+    from bearingfw.analysis.static import StiffnessRangeError
     from bearingfw.bridges import PRESETS, reference_bridge
     from bearingfw.bridges.paper import MODES, TABLE2_FE
     from bearingfw.bridges.study import deck_observation
     from bearingfw.structures import reference_parameters
     from bearingfw.tuning import observed_modes
 
+    model_ks = ks
     given = _reference_options(model, ks, options)
     if given.get("preset", "M0") not in PRESETS:
         flag = "--model" if model is not None else "--option preset"
@@ -77,7 +79,14 @@ def modal_data(
     model, ks, friction, params = reference_parameters(given)
     if not (isinstance(n_modes, int) and n_modes >= 1):
         raise ParameterError(f"--modes must be an integer >= 1, got {n_modes!r}")
-    modal = solve_modal(reference_bridge(model, ks=ks, params=params, friction=friction), n_modes)
+    try:
+        modal = solve_modal(reference_bridge(model, ks=ks, params=params, friction=friction), n_modes)
+    except StiffnessRangeError as exc:
+        if "ks" not in given or exc.law is None:  # not the laws' stiffness that --ks sets
+            raise
+        flag = "--ks" if model_ks is not None else "--option ks"
+        allowed = f"<= {exc.limit:.2g} N/m for this bridge" if exc.limit is not None else "finite"
+        raise ParameterError(f"{flag} = {ks:g} N/m is out of range: allowed 0 < ks {allowed} ({exc})") from exc
     seen = observed_modes(modal, deck_observation(params))
     deck_label = {m: lab for lab, m in seen.numbered.items()}
     paper = {mode: seen.numbered[mode] for mode in MODES if mode in seen.numbered}
@@ -89,6 +98,7 @@ def modal_data(
         "options": {k: v for k, v in given.items() if k not in ("preset", "ks")},
         "model": model,
         "ks": ks if model in ("M1", "M2", "bouc-wen") else None,
+        "ks_source": _ks_source(model, ks),
         "modes": modes,
         "paper": {
             mode: {"index": m + 1, "frequency": float(modal.frequencies[m]), "table2_fe": TABLE2_FE[mode]}
@@ -96,6 +106,15 @@ def modal_data(
         },
     }
     return data, modal
+
+
+def _ks_source(model: str, ks: float) -> str | None:
+    """Where the K_s of ``model`` comes from: the default study's value (``bearingfw tune``) or the user's."""
+    from bearingfw.bridges import DEFAULT_KS, KS_SOURCE
+
+    if model not in ("M1", "M2", "bouc-wen"):
+        return None
+    return KS_SOURCE if ks == DEFAULT_KS else "given (--ks or --option ks), not the default study's K_s"
 
 
 def _mode_entries(modal) -> list[dict]:

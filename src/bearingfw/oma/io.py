@@ -31,7 +31,7 @@ import attrs
 import numpy as np
 
 from bearingfw.model import COMPONENTS, ModelError
-from bearingfw.motion import RecordFormatError, find_reader
+from bearingfw.motion import RecordFormatError, read_file
 from bearingfw.parameters import ParameterError, parameter
 
 __all__ = [
@@ -49,6 +49,12 @@ __all__ = [
 #: The ``format`` key of a modes file, and its version.
 MODES_FORMAT = "bearingfw-oma-modes"
 MODES_VERSION = 1
+#: The largest frequency (Hz) a modes file may give: far above any structure's modes that an
+#: accelerometer samples, and a bound that keeps every later computation finite.
+MAX_FREQUENCY = 1e5
+#: The largest size of a shape value in a modes file: a shape's scale is free (MAC ignores it), but
+#: the products MAC forms, ``(a . b)^2``, must stay finite.
+MAX_SHAPE = 1e30
 
 
 def parse_channel(name: str) -> tuple[str, str]:
@@ -183,17 +189,20 @@ class Channels:
         return path
 
 
-def _read_traces(reader, path: Path, dt, units):
+def _read_traces(path: Path, fmt, dt, units):
+    """The traces of ``path`` and whether the file stated its units: through
+    :func:`bearingfw.motion.read_file`, whose checks name the file (a directory, a value beyond 100 g)."""
     try:
-        return reader.read(path, dt=dt, units=units), True
+        return read_file(path, format=fmt, dt=dt, units=units)[1], True
     except RecordFormatError as first:
         if units is not None:
             raise
-        # Only the units differ between the two calls: if this one reads, they were what was missing.
+        # Only the units differ between the two calls: if this one reads, they were what was missing;
+        # if it fails too, its reason is the file's other fault (a value beyond 100 g ...).
         try:
-            return reader.read(path, dt=dt, units="m/s^2"), False
-        except RecordFormatError:
-            raise first from None
+            return read_file(path, format=fmt, dt=dt, units="m/s^2")[1], False
+        except RecordFormatError as second:
+            raise second from first
 
 
 #: Arrays of an NPZ archive that describe the record rather than hold a channel (those the record
@@ -217,7 +226,7 @@ def read_channels(path, *, dt: float | None = None, units: str | None = None, fm
     have a name, the same length and the same time step.
     """
     path = Path(path)
-    traces, stated = _read_traces(find_reader(path, fmt), path, dt, units)
+    traces, stated = _read_traces(path, fmt, dt, units)
     names = [t.label for t in traces]
     if not all(names) and all(t.metadata.get("format") == "npz" for t in traces):
         keys = _npz_channel_keys(path)
@@ -353,22 +362,53 @@ class IdentifiedModes:
                 damping = float(entry.get("damping", 0.0))
             except (TypeError, ValueError):
                 raise ParameterError(f"{label}: frequency, damping and shape values must be numbers") from None
-            if not all(math.isfinite(v) for v in values):
-                raise ParameterError(f"{label}: shape values must be finite")
-            modes.append(
-                IdentifiedMode(
-                    frequency,
-                    damping,
-                    values,
-                    frequency_std=float(entry.get("frequency_std", 0.0)),
-                    damping_std=float(entry.get("damping_std", 0.0)),
-                    poles=int(entry.get("poles", 1)),
-                    mpc=float(entry.get("mpc", 1.0)),
-                    name=str(entry.get("name", "")),
+            bad = next((c for c, v in zip(channels, values, strict=True) if not abs(v) <= MAX_SHAPE), None)
+            if bad is not None:
+                raise ParameterError(
+                    f"{label}: shape value {shape[bad]!r} at channel {bad!r} is out of range: shape values must be "
+                    f"finite, |value| <= {MAX_SHAPE:g} (write the shape normalised, largest component 1)"
                 )
-            )
+            if values and not any(values):
+                raise ParameterError(f"{label}: the shape is zero at every channel; a mode shape needs a nonzero value")
+            if not 0.0 < frequency <= MAX_FREQUENCY:
+                raise ParameterError(
+                    f"{label}: field 'frequency' = {entry['frequency']!r} is out of range: 0 < frequency <= "
+                    f"{MAX_FREQUENCY:g} Hz"
+                )
+            try:
+                modes.append(
+                    IdentifiedMode(
+                        frequency,
+                        damping,
+                        values,
+                        frequency_std=_statistic(entry, "frequency_std", 0.0),
+                        damping_std=_statistic(entry, "damping_std", 0.0),
+                        poles=_count(entry.get("poles", 1)),
+                        mpc=_statistic(entry, "mpc", 1.0, high=1.0),
+                        name=str(entry.get("name", "")),
+                    )
+                )
+            except (ParameterError, TypeError, ValueError) as exc:
+                raise ParameterError(f"{label}: {exc}") from None
         meta = {k: v for k, v in data.items() if k not in ("channels", "modes")}
         return cls(channels, modes, meta)
+
+
+def _statistic(entry: Mapping[str, Any], key: str, default: float, high: float = math.inf) -> float:
+    """An optional number of a mode entry in ``0 <= value <= high`` (a spread, a collinearity)."""
+    value = entry.get(key, default)
+    number = float(value) if isinstance(value, int | float) and not isinstance(value, bool) else math.nan
+    if not 0.0 <= number <= high:
+        allowed = f"0 <= {key} <= {high:g}" if math.isfinite(high) else f"{key} >= 0, finite"
+        raise ParameterError(f"field {key!r} = {value!r} is out of range: {allowed}")
+    return number
+
+
+def _count(value) -> int:
+    """The ``poles`` of a mode entry: a whole number >= 1 (JSON may write it as 3.0)."""
+    if isinstance(value, bool) or not isinstance(value, int | float) or not (1 <= value <= 2**31 and value == int(value)):
+        raise ParameterError(f"field 'poles' = {value!r} must be a whole number >= 1")
+    return int(value)
 
 
 def write_modes(modes: IdentifiedModes, path) -> Path:
@@ -382,9 +422,23 @@ def read_modes(path) -> IdentifiedModes:
     """Read a modes file written by :func:`write_modes` or ``bearingfw oma --json``."""
     path = Path(path)
     try:
-        data = json.loads(path.read_text())
+        raw = path.read_bytes()
+    except IsADirectoryError:
+        raise ParameterError(f"{path}: is a directory, not a modes file") from None
     except OSError as exc:
         raise ParameterError(f"{path}: cannot read the file ({exc.strerror or exc})") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = raw.count(b"\n", 0, exc.start) + 1
+        raise ParameterError(
+            f"{path}: not UTF-8 text (byte {raw[exc.start:exc.start + 1]!r} at offset {exc.start}) on line {line}; a "
+            "modes file is JSON in UTF-8"
+        ) from None
+    try:
+        data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise ParameterError(f"{path}: not JSON ({exc})") from None
+    except RecursionError:
+        raise ParameterError(f"{path}: not a modes file (JSON nested too deeply)") from None
     return IdentifiedModes.from_dict(data, where=str(path))

@@ -86,6 +86,7 @@ import attrs
 import numpy as np
 
 import bearingfw
+from bearingfw.laws import respond_inputs
 from bearingfw.parameters import check_per_bearing
 
 
@@ -154,6 +155,9 @@ class BoucWen:
     SUBSTEP_RATIO: ClassVar[float] = 0.03
     #: Substeps per call at most: a longer increment is cut into this many equal substeps.
     MAX_SUBSTEPS: ClassVar[int] = 1000
+    #: Displacements (m) beyond this cannot be integrated in floating point (the squares of increments
+    #: of about 1e154 overflow): they are answered like NaN (:meth:`_non_finite`).
+    MAX_DISPLACEMENT: ClassVar[float] = 1e150
     MAX_NEWTON_ITERATIONS: ClassVar[int] = 30
     #: n = 2: an increment shorter than STILL uy leaves z as it is (its effect is relatively that small).
     STILL: ClassVar[float] = 1e-200
@@ -249,8 +253,13 @@ class BoucWen:
         return state["u"] - p.uy * state["z"] / p.A
 
     def respond(self, state, u, normal_force, dt) -> bearingfw.LawResponse:
-        u = np.array(u, dtype=float)  # a copy: the state must not alias the caller's array
+        # The shapes checked naming the law (numpy would broadcast a wrong one); then a copy: the state
+        # must not alias the caller's array.
+        u = np.array(respond_inputs(self, u, normal_force)[0])
         check_per_bearing(self, len(u))
+        # Two reductions, no copy, find a NaN, an infinity or an absurd displacement (comparisons with NaN fail).
+        if u.size and not (-self.MAX_DISPLACEMENT <= u.min() and u.max() <= self.MAX_DISPLACEMENT):
+            return self._non_finite(state, u, normal_force, dt)
         p = self._values(len(u))
         du = u - state["u"]
         z = state["z"]
@@ -292,6 +301,19 @@ class BoucWen:
             tangent = p.matrix(p.alpha * p.k) * np.eye(self.dims) + p.matrix(hysteretic) * dz_du
         # An increment with nothing to do hands z0 back: never share an array with the old state.
         z = z.copy() if z is state["z"] else z
+        return bearingfw.LawResponse(force, tangent, {"z": z, "u": u})
+
+    def _non_finite(self, state, u, normal_force, dt) -> bearingfw.LawResponse:
+        """A call with NaN, infinite or absurd displacements (beyond :attr:`MAX_DISPLACEMENT`): they
+        propagate to NaN forces and tangents of their connectors (which the kernel's step control
+        detects), the others answer as usual."""
+        bad = ~(np.abs(u) <= self.MAX_DISPLACEMENT).all(axis=1)
+        sound = np.where(bad[:, None], state["u"], u)
+        response = self.respond(state, sound, normal_force, dt)
+        force, tangent = np.array(response.force, dtype=float), np.array(response.tangent, dtype=float)
+        force[bad], tangent[bad] = np.nan, np.nan
+        z = response.state["z"].copy()
+        z[bad] = np.nan
         return bearingfw.LawResponse(force, tangent, {"z": z, "u": u})
 
     def _exact_one(self, p: _Values, z0, du):
@@ -412,10 +434,10 @@ class BoucWen:
             else:
                 norm = _norm(z)
                 z = np.where(norm > z_max, z * (z_max / np.maximum(norm, z_max)), z)
-        raise FloatingPointError(
-            f"{self.name}: the backward-Euler Newton iteration did not converge "
-            f"in {self.MAX_NEWTON_ITERATIONS} iterations"
-        )
+        # Not converged (an absurd increment, e.g. 1e300 m): NaN for those connectors, as for a non-finite
+        # displacement; the kernel's step control takes a non-finite answer as a failed trial.
+        result[pending], matrix[pending] = np.nan, np.nan
+        return result, matrix
 
     def _flow(self, p: _Values, z, delta):
         """``Phi(z, delta)/uy`` and its derivative in ``z``, all connectors at once.

@@ -44,6 +44,7 @@ import attrs
 import numpy as np
 
 import bearingfw
+from bearingfw.laws import respond_inputs
 from bearingfw.parameters import check_per_bearing
 
 
@@ -105,7 +106,9 @@ class ElastomericPlasticity:
         return (1.0 - np.asarray(self.alpha, dtype=float)[..., None]) * state["plastic"]
 
     def respond(self, state, u, normal_force, dt, velocity=None) -> bearingfw.LawResponse:
-        u = np.array(u, dtype=float)  # a copy: no aliasing between the caller's array and the state
+        # The shapes checked, naming the law (numpy would broadcast a wrong one); then a copy: no aliasing
+        # between the caller's array and the state.
+        u = np.array(respond_inputs(self, u, normal_force)[0])
         n = u.shape[0]
         check_per_bearing(self, n)
         # (1,) for a scalar parameter, (n, 1) for per-bearing values: both broadcast over (n, dims).

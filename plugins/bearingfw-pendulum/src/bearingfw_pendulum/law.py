@@ -43,6 +43,7 @@ import attrs
 import numpy as np
 
 import bearingfw
+from bearingfw.laws import respond_inputs
 from bearingfw.parameters import check_per_bearing
 
 #: The smallest friction coefficient accepted: a smaller positive one leaves a stick range
@@ -69,6 +70,18 @@ def _stiffness_parameter():
     )
 
 
+def _velocity_input(law, velocity, u: np.ndarray) -> np.ndarray:
+    """``velocity`` as a float array of the shape of ``u`` (numpy would broadcast a wrong one into
+    a plausible answer), or a :class:`bearingfw.ParameterError` naming the law and the argument."""
+    velocity = np.asarray(velocity, dtype=float)
+    if velocity.shape != u.shape:
+        raise bearingfw.ParameterError(
+            f"law {law.name!r}: respond() argument 'velocity' must have the shape of 'u', {u.shape}, got shape "
+            f"{velocity.shape}"
+        )
+    return velocity
+
+
 def pendulum_response(law, state, u, normal_force, mu, dmu_dvelocity=None) -> bearingfw.LawResponse:
     """The response of friction-pendulum law ``law`` (fields ``k``, ``R``, ``dims``) for the
     coefficients ``mu`` (n,) and, for a velocity-dependent coefficient, ``dmu_dvelocity`` (n, dims)."""
@@ -82,7 +95,8 @@ def pendulum_response(law, state, u, normal_force, mu, dmu_dvelocity=None) -> be
     if np.any(gravity >= k):
         i = int(np.flatnonzero(gravity >= k)[0])
         raise bearingfw.ParameterError(
-            f"{law.name}: connector {i} carries N = {load[i]:.6g} N, so its pendulum stiffness N/R = {gravity[i]:.6g} "
+            f"{law.name}: respond() argument 'normal_force': connector {i} carries N = {load[i]:.6g} N, so its pendulum "
+            f"stiffness N/R = {gravity[i]:.6g} "
             f"N/m reaches the parameter 'k' = {k[i]:.6g} N/m; 'k' (the stiffness before sliding, with N/R) must "
             f"exceed N/R (typically 50 to 100 times it): raise 'k' or 'R'"
         )
@@ -156,8 +170,10 @@ class FrictionPendulum(_PendulumBase):
     dims: int = bearingfw.dims_parameter()
 
     def respond(self, state, u, normal_force, dt) -> bearingfw.LawResponse:
-        check_per_bearing(self, np.shape(u)[0])
-        mu = np.broadcast_to(_values(self.mu), (np.shape(u)[0],))
+        # Shapes and a finite normal force checked naming the law (a NaN N would compare as no contact).
+        u, normal_force = respond_inputs(self, u, normal_force)
+        check_per_bearing(self, u.shape[0])
+        mu = np.broadcast_to(_values(self.mu), (u.shape[0],))
         return pendulum_response(self, state, u, normal_force, mu)
 
 
@@ -207,11 +223,10 @@ class VelocityFrictionPendulum(_PendulumBase):
         return attrs.evolve(self, a=0.0), FrictionPendulum(k=self.k, R=self.R, mu=self.f_min, dims=self.dims)
 
     def respond(self, state, u, normal_force, dt, velocity=None) -> bearingfw.LawResponse:
-        n = np.shape(u)[0]
+        u, normal_force = respond_inputs(self, u, normal_force)
+        n = u.shape[0]
         check_per_bearing(self, n)
-        if velocity is None:
-            velocity = np.zeros((n, self.dims))
-        velocity = np.asarray(velocity, dtype=float)
+        velocity = np.zeros((n, self.dims)) if velocity is None else _velocity_input(self, velocity, u)
         speed = np.sqrt(np.einsum("ij,ij->i", velocity, velocity))
         a = _values(self.a)
         f_min, f_max = _values(self.f_min), _values(self.f_max)

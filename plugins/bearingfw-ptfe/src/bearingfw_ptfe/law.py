@@ -44,6 +44,7 @@ import attrs
 import numpy as np
 
 import bearingfw
+from bearingfw.laws import respond_inputs
 from bearingfw.parameters import check_per_bearing
 
 
@@ -54,6 +55,18 @@ MIN_COEFFICIENT = 0.001
 def _values(value) -> np.ndarray:
     """A per-bearing parameter as a float array: shape () for a scalar, (n,) for an array."""
     return np.asarray(value, dtype=float)
+
+
+def _velocity_input(law, velocity, u: np.ndarray) -> np.ndarray:
+    """``velocity`` as a float array of the shape of ``u`` (numpy would broadcast a wrong one into
+    a plausible answer), or a :class:`bearingfw.ParameterError` naming the law and the argument."""
+    velocity = np.asarray(velocity, dtype=float)
+    if velocity.shape != u.shape:
+        raise bearingfw.ParameterError(
+            f"law {law.name!r}: respond() argument 'velocity' must have the shape of 'u', {u.shape}, got shape "
+            f"{velocity.shape}"
+        )
+    return velocity
 
 
 @attrs.frozen
@@ -166,18 +179,19 @@ class PTFEFriction:
         return frozen, bearingfw.create_law("regularized-coulomb", k=self.k, mu=self.f_min, dims=self.dims)
 
     def respond(self, state, u, normal_force, dt, velocity=None) -> bearingfw.LawResponse:
-        u = np.asarray(u, dtype=float)
+        # Shapes, and a finite normal force, checked naming the law (numpy would broadcast a wrong shape
+        # into a plausible answer, and a NaN normal force compares as stick).
+        u, normal = respond_inputs(self, u, normal_force)
         n = u.shape[0]
         check_per_bearing(self, n)
         k = _values(self.k)[..., None]  # () -> (1,), (n,) -> (n, 1): broadcasts over (n, dims)
-        normal = np.asarray(normal_force, dtype=float)
         contact_force = np.maximum(normal, 0.0)
 
         if velocity is None:
             speed = np.zeros(n)
             velocity = np.zeros_like(u)
         else:
-            velocity = np.asarray(velocity, dtype=float)
+            velocity = _velocity_input(self, velocity, u)
             speed = np.sqrt(np.einsum("ij,ij->i", velocity, velocity))
         a = _values(self.a)
         f_min = _values(self.f_min)

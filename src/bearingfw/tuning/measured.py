@@ -45,7 +45,7 @@ from typing import Any
 import attrs
 import numpy as np
 
-from bearingfw.oma.io import IdentifiedModes, channel_dofs, parse_channel
+from bearingfw.oma.io import MAX_FREQUENCY, MAX_SHAPE, IdentifiedModes, channel_dofs, parse_channel
 from bearingfw.parameters import ParameterError
 from bearingfw.tuning.pairing import Measurement
 
@@ -105,6 +105,13 @@ def _number(value, where: str, what: str) -> float:
     return float(value)
 
 
+def _shape_value(value, where: str, what: str) -> float:
+    number = _number(value, where, what)
+    if abs(number) > MAX_SHAPE:  # a shape is scaled freely; beyond this MAC's products overflow
+        raise ParameterError(f"{where}: field {what!r} must be at most {MAX_SHAPE:g} in size, got {value!r}")
+    return number
+
+
 def _channels(value, where: str) -> tuple[str, ...] | None:
     if value is None:
         return None
@@ -131,7 +138,7 @@ def _shape(value, channels: tuple[str, ...] | None, where: str) -> tuple[tuple[s
                 parse_channel(name)
             except ParameterError as exc:
                 raise ParameterError(f"{where}: field 'shape': {exc}") from None
-        values = [_number(v, where, f"shape.{c}") for c, v in value.items()]
+        values = [_shape_value(v, where, f"shape.{c}") for c, v in value.items()]
         if channels is not None:
             missing = [c for c in channels if c not in value]
             extra = [c for c in names if c not in channels]
@@ -150,7 +157,7 @@ def _shape(value, channels: tuple[str, ...] | None, where: str) -> tuple[tuple[s
             )
         if len(value) != len(channels):
             raise ParameterError(f"{where}: field 'shape' has {len(value)} values for {len(channels)} channels")
-        return channels, np.array([_number(v, where, f"shape[{k}]") for k, v in enumerate(value)])
+        return channels, np.array([_shape_value(v, where, f"shape[{k}]") for k, v in enumerate(value)])
     raise ParameterError(f"{where}: field 'shape' must be an object {{channel: value}} or an array, got {value!r}")
 
 
@@ -178,8 +185,10 @@ def measured_modes(data: Mapping[str, Any], where: str = "measured modes") -> Me
         if "frequency" not in entry:
             raise ParameterError(f"{here}: field 'frequency' (Hz) is required")
         frequency = _number(entry["frequency"], here, "frequency")
-        if frequency <= 0:
-            raise ParameterError(f"{here}: field 'frequency' must be > 0 Hz, got {frequency!r}")
+        if not 0 < frequency <= MAX_FREQUENCY:
+            raise ParameterError(
+                f"{here}: field 'frequency' must be > 0 Hz and at most {MAX_FREQUENCY:g} Hz, got {frequency!r}"
+            )
         label = entry.get("label")
         shape = None
         if entry.get("shape") is not None:
@@ -239,7 +248,10 @@ def read_measured(path) -> MeasuredModes:
     """Read a measured-modes file (module docstring): TOML if it ends in ``.toml``, else JSON."""
     path = Path(path)
     try:
-        text = path.read_text()
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        line = path.read_bytes()[: exc.start].count(b"\n") + 1
+        raise ParameterError(f"{path}: line {line} is not UTF-8 text (byte {exc.start}); save the file as UTF-8") from None
     except OSError as exc:
         raise ParameterError(f"{path}: cannot read the file ({exc.strerror or exc})") from None
     try:

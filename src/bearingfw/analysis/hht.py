@@ -29,6 +29,8 @@ balance and damping force need ``M v``, ``M a``, ``K x``, ``K v`` at the new ins
 ``[M; K] x_{n+1}``, and gets the others from Newmark's updates applied to the products
 (``M a_{n+1} = (M x_{n+1} - M xt) / (beta h^2)``, ``M v_{n+1} = M vt + gamma h M a_{n+1}``), the
 same operations the scheme applies to ``x``, ``v``, ``a`` (so their round-off is of the same kind).
+The sparse products of a step call scipy's CSR kernel directly (:class:`_Sparse`: the same sums,
+without the dispatch that costs more than the product at a few hundred rows).
 
 Fast path (static condensation onto the ``m`` governed bearing directions): with
 ``W = A^{-1} B^T`` (n x m), ``S = B W`` (m x m) and ``x_lin = A^{-1} r`` (one back-substitution),
@@ -41,7 +43,9 @@ law forces about the last step's converged point with its tangent,
 ``(I + c S K_t,n) d = d_lin - c S (phi_n - K_t,n d_n)``: exact for linear laws and sticking
 bearings, which then converge at their first law call (one call per step instead of two); with
 dF/dN it also linearises in the coupled normal forces (:func:`_predict`), exact for a 1-D friction
-bearing that keeps sliding under a changing normal force. The
+bearing that keeps sliding under a changing normal force. Its matrix is the Jacobian of the last
+step's last Newton correction, whose LU factors the state keeps (:attr:`State.jacobian`): the
+predictor costs one dense forward and back substitution. The
 normal forces follow
 ``N = N_lin + c kv (V W) phi``, evaluated for the next iterate with ``phi`` linearised there
 (``phi - K_t delta``); a law that gives no ``dphi/dN`` sees its ``N`` lag one iteration, and the
@@ -108,6 +112,12 @@ import attrs
 import numpy as np
 import scipy.sparse as sp
 from scipy.linalg.lapack import dgesv as _gesv
+from scipy.linalg.lapack import dgetrs as _getrs
+
+try:  # scipy's sparse kernels (private; the products fall back to the public operator without them)
+    from scipy.sparse import _sparsetools
+except ImportError:  # pragma: no cover - a scipy that moved them
+    _sparsetools = None
 
 from bearingfw.analysis.energy import Energy, advance_energy
 from bearingfw.analysis.static import SYMMETRIC_ORDERING, factorize
@@ -129,6 +139,7 @@ __all__ = [
 ]
 
 _sum = np.add.reduce
+_max = np.maximum.reduce
 #: Round-off allowance of the convergence tests, in units of the compared quantities' size.
 _ROUND = 256 * np.finfo(float).eps
 #: Halvings of a Newton correction the line search tries before taking its best trial.
@@ -157,10 +168,40 @@ class Scheme:
 DENSE_BELOW = 200
 
 
+class _Sparse:
+    """A sparse matrix whose product with a vector calls scipy's own kernel directly.
+
+    ``A @ x`` for a CSR/CSC ``A`` and a vector ``x`` is scipy's ``csr_matvec`` (``csc_matvec``) into a
+    zeroed result; the dispatch around it costs several times the product at the sizes of a step
+    (a few hundred rows). This makes the same call on the same arrays (the same sums in the same
+    order); anything but a float vector goes to the matrix itself."""
+
+    __slots__ = ("matrix", "shape", "_kernel", "_args")
+
+    def __init__(self, matrix):
+        self.matrix = matrix
+        self.shape = matrix.shape
+        self._kernel = getattr(_sparsetools, f"{matrix.format}_matvec", None) if _sparsetools is not None else None
+        self._args = (matrix.shape[0], matrix.shape[1], matrix.indptr, matrix.indices, matrix.data)
+        if matrix.dtype != np.float64:
+            self._kernel = None
+
+    def __matmul__(self, x):
+        if self._kernel is None or type(x) is not np.ndarray or x.shape != (self.shape[1],) or x.dtype != np.float64:
+            return self.matrix @ x
+        out = np.zeros(self.shape[0])
+        self._kernel(*self._args, x, out)
+        return out
+
+    def toarray(self) -> np.ndarray:
+        return self.matrix.toarray()
+
+
 @attrs.frozen(eq=False)
 class Products:
     """``M``, ``K``, ``B``, ``B^T``, ``V`` and the stacked ``[B; V]`` for the per-step products
-    (dense copies for small models)."""
+    (dense copies for small models; else :class:`_Sparse`, the same sparse products at less cost
+    per call)."""
 
     M: object
     K: object
@@ -176,6 +217,8 @@ class Products:
         mats = (M, K, B, Bt, V, sp.vstack([B, V]).tocsr(), sp.vstack([M, K]).tocsr())
         if M.shape[0] < DENSE_BELOW:
             mats = tuple(np.asarray(A.toarray()) for A in mats)
+        else:
+            mats = tuple(_Sparse(A) for A in mats)
         return cls(*mats)
 
 
@@ -209,6 +252,10 @@ class Problem:
     kv_coupled: np.ndarray = attrs.field(init=False)
     coupling_slots: np.ndarray = attrs.field(init=False)
     coupling_kv: np.ndarray = attrs.field(init=False)
+    #: ``coupled`` as a slice where the rows are consecutive (a view instead of a copy), else itself
+    coupled_at: slice | np.ndarray = attrs.field(init=False, repr=False)
+    #: what depends on the step size only, per step size (:func:`effective_rhs`'s weights)
+    per_step_size: dict = attrs.field(init=False, factory=dict, repr=False)
 
     def __attrs_post_init__(self):
         object.__setattr__(self, "mul", Products.of(self.M, self.K, self.B, self.Bt, self.V))
@@ -218,6 +265,8 @@ class Problem:
         index = np.full(self.kv.size, -1, dtype=int)
         index[coupled] = np.arange(coupled.size)
         object.__setattr__(self, "coupled", coupled)
+        consecutive = coupled.size and coupled[-1] - coupled[0] + 1 == coupled.size
+        object.__setattr__(self, "coupled_at", slice(int(coupled[0]), int(coupled[-1]) + 1) if consecutive else coupled)
         object.__setattr__(self, "kv_coupled", self.kv[coupled])
         object.__setattr__(self, "coupling_slots", self.ops.coupling_rows * coupled.size + index[springs])
         object.__setattr__(self, "coupling_kv", self.kv[springs])
@@ -344,6 +393,13 @@ class State:
     products: np.ndarray | None = None
     #: with dF/dN (fast path): ``E`` at ``d`` (:func:`_coupling`; None: zero), for the predictor
     coupling: np.ndarray | None = None
+    #: ``x``, ``v``, ``a`` as the rows of one (3, n) array (they are its views; None: separate arrays)
+    xva: np.ndarray | None = None
+    #: fast path: ``(operator, tangents, coupling, lu, piv)``, the LU factors of the condensed Jacobian
+    #: that the step's last Newton correction factorised, with the operator and the tangents and
+    #: coupling it was formed from; the next step's predictor solves with that matrix
+    #: (:func:`_predict`). None: not available.
+    jacobian: tuple | None = None
 
 
 def initial_state(p: Problem, law_states: tuple, load0: np.ndarray, a0: np.ndarray) -> State:
@@ -376,15 +432,15 @@ def _predictors(scheme: Scheme, h: float) -> np.ndarray:
     return np.array([[1.0, h, h * h * (0.5 - scheme.beta)], [0.0, 1.0, h * (1.0 - scheme.gamma)]])
 
 
-def effective_rhs(p: Problem, s: State, h: float, load1: np.ndarray):
-    """``r`` of the module docstring and the predictors ``xt``, ``vt``.
-
-    ``M rm`` and ``K (...)`` are combinations of the products ``M [x, v, a]`` and ``K [x, v, a]``
-    the last step kept (:attr:`State.products`): no sparse product here."""
+def _rhs_weights(p: Problem, h: float) -> tuple[np.ndarray, np.ndarray]:
+    """Newmark's predictors ``T`` (:func:`_predictors`) and the weights of ``M [x, v, a]`` and
+    ``K [x, v, a]`` in ``r`` (:func:`effective_rhs`), (2, 3) each; computed once per step size."""
+    cached = p.per_step_size.get(h)
+    if cached is not None:
+        return cached
     al, ga, be = p.scheme.alpha, p.scheme.gamma, p.scheme.beta
     c = 1.0 + al
     T = _predictors(p.scheme, h)
-    xt, vt = T @ np.stack((s.x, s.v, s.a))
     # rm = xt / (be h^2) + c a0 w + al a0 v,   rk = c a1 w + al a1 v + al x,   w = ga / (be h) xt - vt
     m_xt, m_vt = 1.0 / (be * h * h) + c * p.a0 * ga / (be * h), -c * p.a0
     k_xt, k_vt = c * p.a1 * ga / (be * h), -c * p.a1
@@ -393,8 +449,20 @@ def effective_rhs(p: Problem, s: State, h: float, load1: np.ndarray):
             [m_xt * T[0, 0], m_xt * T[0, 1] + m_vt + al * p.a0, m_xt * T[0, 2] + m_vt * T[1, 2]],
             [k_xt * T[0, 0] + al, k_xt * T[0, 1] + k_vt + al * p.a1, k_xt * T[0, 2] + k_vt * T[1, 2]],
         ]
-    )
-    r = weights.reshape(6) @ s.products.reshape(6, -1) + c * load1
+    ).reshape(6)
+    p.per_step_size[h] = T, weights
+    return T, weights
+
+
+def effective_rhs(p: Problem, s: State, h: float, load1: np.ndarray):
+    """``r`` of the module docstring and the predictors ``xt``, ``vt``.
+
+    ``M rm`` and ``K (...)`` are combinations of the products ``M [x, v, a]`` and ``K [x, v, a]``
+    the last step kept (:attr:`State.products`): no sparse product here."""
+    al = p.scheme.alpha
+    T, weights = _rhs_weights(p, h)
+    xt, vt = T @ (np.stack((s.x, s.v, s.a)) if s.xva is None else s.xva)
+    r = weights @ s.products.reshape(6, -1) + (1.0 + al) * load1
     if al:
         r = r - al * s.load
         if p.m:
@@ -402,14 +470,22 @@ def effective_rhs(p: Problem, s: State, h: float, load1: np.ndarray):
     return r, xt, vt
 
 
+#: below this many entries a sum of Python floats (``tolist``) is cheaper than numpy's reduction
+_SMALL = 256
+
+
 def _finite(*arrays) -> bool:
     # one sum per array: a NaN or an infinity makes it non-finite (a sum that merely overflows is
     # then looked at element by element)
-    return all(math.isfinite(_sum(a, axis=None)) or np.isfinite(a).all() for a in arrays)
+    for a in arrays:
+        total = sum(a.ravel().tolist()) if a.size <= _SMALL else _sum(a, axis=None)
+        if not math.isfinite(total) and not np.isfinite(a).all():
+            return False
+    return True
 
 
 def _inf(a: np.ndarray) -> float:
-    return float(np.abs(a).max()) if a.size else 0.0
+    return float(_max(np.abs(a), axis=None)) if a.size else 0.0
 
 
 def _blocks(p: Problem, responses, rate: float) -> list[tuple[slice, np.ndarray]]:
@@ -427,7 +503,7 @@ def _coupling(p: Problem, responses, N: np.ndarray) -> np.ndarray | None:
     per unit vertical displacement ``nu = N / kv`` of those springs (zero where ``N <= 0``); None
     when it is zero (every coupled bearing sticking, or without contact)."""
     values = p.ops.normal_derivatives(responses, N)[2]
-    if not values.any():
+    if not np.count_nonzero(values):
         return None
     E = np.zeros(p.m * p.coupled.size)
     E[p.coupling_slots] = values * p.coupling_kv
@@ -475,8 +551,13 @@ def _tangent_times(blocks, vector: np.ndarray) -> np.ndarray:
 def _times_tangent(matrix: np.ndarray, blocks) -> np.ndarray:
     """``matrix @ K_t`` block by block (``m x m`` dense times block diagonal)."""
     rows_m = matrix.shape[0]
-    if len(blocks) == 1 and blocks[0][1].shape[1] == 1 and blocks[0][1].shape[0] == matrix.shape[1]:
-        return matrix * blocks[0][1].reshape(-1)  # one 1-D law for every column: a diagonal
+    if len(blocks) == 1 and blocks[0][1].shape[0] * blocks[0][1].shape[1] == matrix.shape[1]:
+        t = blocks[0][1]  # one law for every column (the usual case)
+        n, d = t.shape[0], t.shape[1]
+        if d == 1:
+            return matrix * t.reshape(-1)  # a diagonal
+        product = np.matmul(matrix.reshape(rows_m, n, d).transpose(1, 0, 2), t)
+        return product.transpose(1, 0, 2).reshape(rows_m, n * d)
     out = np.empty_like(matrix)
     for rows, t in blocks:
         n, d = t.shape[0], t.shape[1]
@@ -532,11 +613,37 @@ def _stiffness(blocks) -> float:
     return max((_inf(t) for _, t in blocks), default=0.0)
 
 
+#: what a solver returns instead of ``(tangents, coupling, jacobian, phi)`` (:func:`step`) when it has none
+_NOT_LINEARISED = (None, None, None, None)
+
+
 def _solve_dense(J: np.ndarray, g: np.ndarray) -> np.ndarray | None:
     """``J^-1 g`` (LAPACK ``gesv`` directly: numpy's wrapper costs several times the solve at this
     size), or None when ``J`` is singular."""
     _, _, x, info = _gesv(J, g)
     return x if info == 0 else None
+
+
+def _factor_solve(J: np.ndarray, g: np.ndarray):
+    """:func:`_solve_dense` that also returns the LU factors ``(lu, piv)`` (None when singular)."""
+    lu, piv, x, info = _gesv(J, g)
+    return (x, (lu, piv)) if info == 0 else (None, None)
+
+
+def _solve_factored(factors, g: np.ndarray) -> np.ndarray | None:
+    """``J^-1 g`` with ``J``'s LU factors from :func:`_factor_solve` (``gesv`` is ``getrf`` then
+    ``getrs``: the same solution as factorising again)."""
+    x, info = _getrs(factors[0], factors[1], g)
+    return x if info == 0 else None
+
+
+def _factors_for(s: State, op: Operator):
+    """The LU factors of :attr:`State.jacobian` if they are those of the predictor's matrix (formed
+    with ``op`` from the state's own tangents and coupling), else None."""
+    jacobian = s.jacobian
+    if jacobian is None or jacobian[0] is not op or jacobian[1] is not s.tangents or jacobian[2] is not s.coupling:
+        return None
+    return jacobian[3:]
 
 
 def _predict(p: Problem, op: Operator, s: State, d_lin: np.ndarray, N_lin: np.ndarray):
@@ -550,126 +657,173 @@ def _predict(p: Problem, op: Operator, s: State, d_lin: np.ndarray, N_lin: np.nd
     beside ``d`` (the Jacobian of the module docstring at the last point): a bearing that keeps
     sliding under a changing normal force is then exact in 1-D too. Without tangents (the first
     step), or if that system is singular, the last law forces held: ``d = d_lin - c S phi_n``.
+
+    That matrix is the Jacobian of the last step's last Newton correction (the same tangents, the
+    same operator): its LU factors are reused when the state has them (:attr:`State.jacobian`).
     """
     m = p.m
     phi = s.f - p.f0
     if s.tangents is not None:
         held = phi - _tangent_times(s.tangents, s.d)
+        factors = _factors_for(s, op)
         if s.coupling is not None:
-            nu_n = s.N[p.coupled] / p.kv_coupled
+            nu_n = s.N[p.coupled_at] / p.kv_coupled
             held = held - s.coupling @ nu_n
-            J = np.concatenate((_times_tangent(op.cSV, s.tangents), op.cSV @ s.coupling), axis=1)
-            J.flat[:: J.shape[0] + 1] += 1.0
             rhs = op.cSV @ held
             rhs[:m] = d_lin - rhs[:m]
-            rhs[m:] += N_lin[p.coupled] / p.kv_coupled
-            z = _solve_dense(J, rhs)
-            if z is not None and np.isfinite(z).all():
+            rhs[m:] += N_lin[p.coupled_at] / p.kv_coupled
+            if factors is not None:
+                z = _solve_factored(factors, rhs)
+            else:
+                J = np.concatenate((_times_tangent(op.cSV, s.tangents), op.cSV @ s.coupling), axis=1)
+                J.reshape(-1)[:: J.shape[0] + 1] += 1.0
+                z = _solve_dense(J, rhs)
+            if z is not None and _finite(z):
                 d, nu = z[:m], z[m:]
+                if p.coupled.size == p.kv.size:  # every spring coupled: N is nu's throughout
+                    return d, p.kv_coupled * nu
                 N = N_lin + op.cNW @ (held + _tangent_times(s.tangents, d) + s.coupling @ nu)
-                N[p.coupled] = p.kv_coupled * nu
+                N[p.coupled_at] = p.kv_coupled * nu
                 return d, N
         else:
-            d = _solve_dense(op.eye + _times_tangent(op.cS, s.tangents), d_lin - op.cS @ held)
-            if d is not None and np.isfinite(d).all():
+            rhs = d_lin - op.cS @ held
+            if factors is not None:
+                d = _solve_factored(factors, rhs)
+            else:
+                d = _solve_dense(op.eye + _times_tangent(op.cS, s.tangents), rhs)
+            if d is not None and _finite(d):
                 return d, N_lin + op.cNW @ (held + _tangent_times(s.tangents, d))
     sn = op.cSN @ phi
     return d_lin - sn[:m], N_lin + sn[m:]
 
 
-def _coupled_correction(p: Problem, op: Operator, trial: _FastTrial) -> tuple[np.ndarray, np.ndarray] | None:
+def _coupled_correction(p: Problem, op: Operator, trial: _FastTrial):
     """Newton's correction ``(delta, delta_nu)`` of the bearing displacements and of the coupled
-    springs' ``nu = N / kv`` (module docstring: the Jacobian with dF/dN), or None if singular.
+    springs' ``nu = N / kv`` (module docstring: the Jacobian with dF/dN), ``K_t delta`` when it was
+    formed on the way (else None), and the LU factors of the Jacobian; ``delta`` None if singular.
 
     ``J = I + [[c S K_t, c S E_k], [-c V W K_t, -c V W E_k]]``; with ``E_k = 0`` (no coupled
     bearing sliding) its first block row alone gives ``delta``, and ``delta_nu = h + c V W K_t delta``.
     """
     m = p.m
     if trial.E is None:
-        delta = _solve_dense(op.eye + _times_tangent(op.cS, trial.blocks), trial.g)
-        return None if delta is None else (delta, trial.h + op.cVW @ _tangent_times(trial.blocks, delta))
+        delta, factors = _factor_solve(op.eye + _times_tangent(op.cS, trial.blocks), trial.g)
+        if delta is None:
+            return None, None, None, None
+        change = _tangent_times(trial.blocks, delta)
+        return delta, trial.h + op.cVW @ change, change, factors
     J = np.concatenate((_times_tangent(op.cSV, trial.blocks), op.cSV @ trial.E), axis=1)
-    J.flat[:: J.shape[0] + 1] += 1.0
-    x = _solve_dense(J, np.concatenate((trial.g, trial.h)))
-    return None if x is None else (x[:m], x[m:])
+    J.reshape(-1)[:: J.shape[0] + 1] += 1.0  # the diagonal, in place
+    x, factors = _factor_solve(J, np.concatenate((trial.g, trial.h)))
+    return (None, None, None, None) if x is None else (x[:m], x[m:], None, factors)
 
 
 def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, force_scale: float, motion: Motion):
     x_lin = op.solve(r)
     if not p.m:
-        return x_lin, s.f, s.d, p.bearings(x_lin, motion.offset)[1], s.law_states, 0, 0, (None, None)
+        return x_lin, s.f, s.d, p.bearings(x_lin, motion.offset)[1], s.law_states, 0, 0, _NOT_LINEARISED
     d_lin, N_lin = p.bearings(x_lin, motion.offset)
     c = 1.0 + p.scheme.alpha
     size = max(_inf(d_lin), p.d0_size)
+    round_d = _ROUND * size
     n_round = _ROUND * _inf(N_lin)
     m = p.m
-    coupled = p.coupled
+    coupled = p.coupled_at
+    n_coupled = p.coupled.size
+    kv_coupled = p.kv_coupled
     rate = motion.rate
+    respond, forces, law_states, f0, cSN = p.ops.respond, p.ops.forces, s.law_states, p.f0, op.cSN
+    velocity = None if motion.Bvt is None else motion.velocity
+    # max(|d - d_n|, |d - d_0|), the motion the displacement test compares with, in one reduction
+    origins = np.stack((s.d, p.d0))
+
+    # one law group without velocity (the usual case): its force and tangent as they come
+    single = p.ops.groups[0].rows if len(p.ops.groups) == 1 and not p.ops.any_velocity else None
 
     def evaluate(d: np.ndarray, N: np.ndarray) -> _FastTrial:
-        responses = p.ops.respond(s.law_states, d, N, h, velocity=motion.velocity(p, d))
-        f = p.ops.forces(responses)
-        blocks = _blocks(p, responses, rate)
-        phi = f - p.f0
-        sn = op.cSN @ phi  # c S phi and the normal forces' change, one product
+        responses = respond(law_states, d, N, h, velocity=None if velocity is None else velocity(p, d))
+        if single is not None:  # ConnectorOperators.forces and _blocks for one group
+            f = np.asarray(responses[0].force, dtype=float).reshape(-1)
+            blocks = [(single, np.asarray(responses[0].tangent, dtype=float))]
+        else:
+            f = forces(responses)
+            blocks = _blocks(p, responses, rate)
+        phi = f - f0
+        sn = cSN @ phi  # c S phi and the normal forces' change, one product
         g = d - d_lin + sn[:m]
         N_new = N_lin + sn[m:]
-        finite = _finite(sn, *(t for _, t in blocks))
-        if not coupled.size:
-            merit = float(np.linalg.norm(g))
-            return _FastTrial(d, N, responses, f, phi, blocks, g, N_new, merit, merit <= _ROUND * size, finite)
+        finite = _finite(sn, blocks[0][1]) if len(blocks) == 1 else _finite(sn, *(t for _, t in blocks))
+        if not n_coupled:
+            merit = math.sqrt(g @ g)  # np.linalg.norm's own formula, without its dispatch
+            return _FastTrial(d, N, responses, f, phi, blocks, g, N_new, merit, merit <= round_d, finite)
         E = _coupling(p, responses, N)
-        gap = (N[coupled] - N_new[coupled]) / p.kv_coupled
-        merit = float(np.sqrt(g @ g + gap @ gap))
+        gap = (N[coupled] - N_new[coupled]) / kv_coupled
+        merit = math.sqrt(g @ g + gap @ gap)
         finite = finite and (E is None or _finite(E))
-        return _FastTrial(d, N, responses, f, phi, blocks, g, N_new, merit, merit <= _ROUND * size, finite, E, gap)
+        return _FastTrial(d, N, responses, f, phi, blocks, g, N_new, merit, merit <= round_d, finite, E, gap)
 
     trial = evaluate(*_predict(p, op, s, d_lin, N_lin))
-    eye = op.eye
     delta = np.zeros(m)
     backtracks = 0
     for it in range(1, p.max_iterations + 1):
         if not trial.finite:
             raise StepFailure("a law returned a non-finite force or tangent", np.inf, ~np.isfinite(trial.f), it)
-        if coupled.size:
-            correction = _coupled_correction(p, op, trial)
-            delta, delta_nu = (None, None) if correction is None else correction
+        blocks = trial.blocks
+        if n_coupled:
+            delta, delta_nu, change, factors = _coupled_correction(p, op, trial)
         else:
-            delta = _solve_dense(eye + _times_tangent(op.cS, trial.blocks), trial.g)
+            delta, factors = _factor_solve(op.eye + _times_tangent(op.cS, blocks), trial.g)
         if delta is None:
             raise StepFailure("singular condensed Jacobian", np.inf, np.abs(trial.g), it)
-        d, N, f = trial.d, trial.N, trial.f
-        # force residual: the linearisation c (K_t g + E h) of c B^T (phi(B x, N(x)) - phi(d, N))
-        linear_residual = _tangent_times(trial.blocks, trial.g)
-        if trial.E is not None:
-            linear_residual = linear_residual + trial.E @ trial.h
-        converged = (  # cheapest and most often failing test first
-            _inf(delta) <= p.tol_displacement * max(_inf(d - s.d), _inf(d - p.d0)) + _ROUND * size
-            and _inf(trial.N_new - N) <= p.tol_force * max(_inf(N), _inf(trial.N_new)) + n_round
-            and c * _inf(linear_residual)
-            <= p.tol_force * max(force_scale, _inf(f)) + _ROUND * c * _stiffness(trial.blocks) * size
-        )
-        if converged:
-            states = tuple(rr.state for rr in trial.responses)
-            return x_lin - op.cW @ trial.phi, f, d, N, states, it, backtracks, (trial.blocks, trial.E)
+        d = trial.d
+        # the tests, cheapest and most often failing first (each only when the one before passed)
+        if _inf(delta) <= p.tol_displacement * float(_max(np.abs(d - origins), axis=None)) + round_d:
+            N, f = trial.N, trial.f
+            # force residual: the linearisation c (K_t g + E h) of c B^T (phi(B x, N(x)) - phi(d, N))
+            linear_residual = _tangent_times(blocks, trial.g)
+            if trial.E is not None:
+                linear_residual = linear_residual + trial.E @ trial.h
+            if (
+                _inf(trial.N_new - N) <= p.tol_force * max(_inf(N), _inf(trial.N_new)) + n_round
+                and c * _inf(linear_residual)
+                <= p.tol_force * max(force_scale, _inf(f)) + _ROUND * c * _stiffness(blocks) * size
+            ):
+                states = tuple(rr.state for rr in trial.responses)
+                linearised = (blocks, trial.E, (op, blocks, trial.E, *factors), trial.phi)
+                return x_lin - op.cW @ trial.phi, f, d, N, states, it, backtracks, linearised
         base = trial
-        if coupled.size:
+        if n_coupled and n_coupled == p.kv.size:
+            # every spring coupled: N is a Newton unknown throughout
+            dN_coupled = kv_coupled * delta_nu
+
+            def trial_at(lam: float, base=base, delta=delta, dN_coupled=dN_coupled) -> _FastTrial:
+                if lam == 1.0:  # the full step (the usual one): lam times anything is itself
+                    return evaluate(base.d - delta, base.N - dN_coupled)
+                return evaluate(base.d - lam * delta, base.N - lam * dN_coupled)
+        elif n_coupled:
             # N of the coupled springs is a Newton unknown; the others' N follows the law forces
             # linearised at the next iterate, as below
-            change = _tangent_times(trial.blocks, delta)
+            if change is None:
+                change = _tangent_times(blocks, delta)
             dN = op.cNW @ (change if trial.E is None else change + trial.E @ delta_nu)
-            dN_coupled = p.kv_coupled * delta_nu
+            dN_coupled = kv_coupled * delta_nu
 
             def trial_at(lam: float, base=base, delta=delta, dN=dN, dN_coupled=dN_coupled) -> _FastTrial:
+                if lam == 1.0:  # the full step (the usual one): lam times anything is itself
+                    N_next = base.N_new - dN
+                    N_next[coupled] = base.N[coupled] - dN_coupled
+                    return evaluate(base.d - delta, N_next)
                 N_next = base.N_new - lam * dN
                 N_next[coupled] = base.N[coupled] - lam * dN_coupled
                 return evaluate(base.d - lam * delta, N_next)
         else:
             # N for the next iterate from the law forces linearised there (exact for linear laws, so
             # they converge in two evaluations); the laws' own dependence on N lags one iteration.
-            dN = op.cNW @ _tangent_times(trial.blocks, delta)
+            dN = op.cNW @ _tangent_times(blocks, delta)
 
             def trial_at(lam: float, base=base, delta=delta, dN=dN) -> _FastTrial:
+                if lam == 1.0:
+                    return evaluate(base.d - delta, base.N_new - dN)
                 return evaluate(base.d - lam * delta, base.N_new - lam * dN)
 
         trial, k = _line_search(trial_at, base)
@@ -726,7 +880,7 @@ def _solve_general(
     c = 1.0 + p.scheme.alpha
     if not p.m:
         x = op.solve(r)
-        return x, s.f, s.d, p.bearings(x, motion.offset)[1], s.law_states, 0, 0, (None, None)
+        return x, s.f, s.d, p.bearings(x, motion.offset)[1], s.law_states, 0, 0, _NOT_LINEARISED
 
     def evaluate(x: np.ndarray) -> _GeneralTrial:
         d, N = p.bearings(x, motion.offset)
@@ -755,7 +909,7 @@ def _solve_general(
             and _inf(trial.R) <= p.tol_force * max(force_scale, _inf(f)) + _ROUND * max(_inf(r), c * _inf(trial.Bt_phi))
         )
         if converged:
-            return trial.x, f, d, trial.N, tuple(rr.state for rr in trial.responses), it, backtracks, (None, None)
+            return trial.x, f, d, trial.N, tuple(rr.state for rr in trial.responses), it, backtracks, _NOT_LINEARISED
         base = trial
         trial, k = _line_search(lambda lam, base=base, dx=dx: evaluate(base.x + lam * dx), base)
         backtracks += k
@@ -789,38 +943,48 @@ def step(
     else:
         motion = Motion(rate, offset=e)
     solver = _solve_fast if p.fast else _solve_general
-    x, f, d, N, law_states, iterations, backtracks, (tangents, coupling) = solver(
+    x, f, d, N, law_states, iterations, backtracks, (tangents, coupling, jacobian, phi) = solver(
         p, op, s, r, h, force_scale, motion
     )
     if not _finite(x):
         raise StepFailure("non-finite displacements", np.inf, np.ones(p.m), iterations)
-    a = (x - xt) / (sch.beta * h * h)
-    v = vt + (sch.gamma * h) * a
+    # x, v, a as the rows of one array (the next step's predictors are one product with it)
+    xva = np.empty((3, x.size))
+    xva[0] = x
+    x, v, a = xva
+    np.subtract(x, xt, out=a)
+    np.divide(a, sch.beta * h * h, out=a)
+    np.multiply(a, sch.gamma * h, out=v)
+    np.add(vt, v, out=v)
     # M and K times (x, v, a): one sparse product for x; v and a follow from x as in x-space
     products = np.empty_like(s.products)
     products[:, 0] = (p.mul.MK @ x).reshape(2, -1)
-    predicted = np.matmul(_predictors(sch, h), s.products)  # [[M xt, M vt], [K xt, K vt]]
+    predicted = np.matmul(_rhs_weights(p, h)[0], s.products)  # [[M xt, M vt], [K xt, K vt]]
     np.subtract(products[:, 0], predicted[:, 0], out=products[:, 2])
     np.divide(products[:, 2], sch.beta * h * h, out=products[:, 2])
     np.multiply(products[:, 2], sch.gamma * h, out=products[:, 1])
     np.add(predicted[:, 1], products[:, 1], out=products[:, 1])
     (_, Mv, Ma), (Kx, Kv, _) = products
-    Bt_phi = p.mul.Bt @ (f - p.f0) if p.m else s.Bt_phi
+    if p.m:
+        Bt_phi = p.mul.Bt @ (f - p.f0 if phi is None else phi)
+    else:
+        Bt_phi = s.Bt_phi
     damping1 = p.damping_force(Mv, Kv)
     G = damping1 + Kx + Bt_phi - load1
     rho = -al * (G - s.G)  # what the scheme leaves out of balance at t_{n+1}: M a + G = -alpha (G - G_n)
+    dx = x - s.x
     energy = advance_energy(
         s.energy,
-        dx=x - s.x,
+        dx=dx,
         v1=v,
         Mv1=Mv,
         x1=x,
         Kx1=Kx,
         damping0=s.Cv,
         damping1=damping1,
-        dd=p.mul.B @ (x - s.x),
+        dd=p.mul.B @ dx,
         bearing0=s.f - p.f0,
-        bearing1=f - p.f0,
+        bearing1=f - p.f0 if phi is None else phi,
         load0=s.load,
         load1=load1,
         Ma0=s.Ma,
@@ -830,6 +994,7 @@ def step(
     )
     ae = (a + al * s.ae) / (1.0 + al) if al else a
     state = State(
-        t1, x, v, a, f, d, N, law_states, load1, Mv, Kv, energy, damping1, Ma, Bt_phi, G, rho, ae, tangents, products, coupling
+        t1, x, v, a, f, d, N, law_states, load1, Mv, Kv, energy, damping1, Ma, Bt_phi, G, rho, ae, tangents, products,
+        coupling, xva, jacobian,
     )
     return state, iterations, backtracks

@@ -19,6 +19,8 @@ from bearingfw.parameters import ParameterError
 __all__ = ["respond_inputs"]
 
 _sum = np.add.reduce
+#: below this many connectors the normal forces are summed as Python floats
+_SMALL = 256
 
 
 def respond_inputs(law, u, normal_force) -> tuple[np.ndarray, np.ndarray]:
@@ -41,9 +43,10 @@ def respond_inputs(law, u, normal_force) -> tuple[np.ndarray, np.ndarray]:
             f"law {law.name!r}: respond() argument 'normal_force' must have shape ({u.shape[0]},), one value per "
             f"connector of 'u' {u.shape}, got shape {normal.shape}"
         )
-    # One reduction: a NaN or an infinity makes the sum non-finite (a sum that merely overflows is
-    # then looked at element by element).
-    if not math.isfinite(_sum(normal)) and not np.isfinite(normal).all():
+    # One sum: a NaN or an infinity makes it non-finite (a sum that merely overflows is then looked
+    # at element by element); of Python floats for a few connectors, where numpy's reduction costs more.
+    total = sum(normal.tolist()) if normal.size <= _SMALL else _sum(normal)
+    if not math.isfinite(total) and not np.isfinite(normal).all():
         k = int(np.flatnonzero(~np.isfinite(normal))[0])
         raise ParameterError(
             f"law {law.name!r}: respond() argument 'normal_force' is {normal[k]} at connector {k}; it must be a "

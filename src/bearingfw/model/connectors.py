@@ -381,6 +381,9 @@ class ConnectorOperators:
     #: the rows of B of the laws with dF/dN and the spring row (N) of each (:meth:`normal_derivatives`)
     coupling_rows: np.ndarray = attrs.field(init=False)
     coupling_springs: np.ndarray = attrs.field(init=False)
+    #: per group, what :meth:`respond` needs on every call: ``(group, rows, (n, dims), springs)``,
+    #: ``springs`` a slice where they are consecutive (a view instead of a copy)
+    _calls: tuple = attrs.field(init=False, repr=False)
 
     def __attrs_post_init__(self):
         if self.uplift is None:
@@ -392,6 +395,15 @@ class ConnectorOperators:
         springs = [np.repeat(g.springs, g.dims) for g in coupled]
         object.__setattr__(self, "coupling_rows", np.concatenate(rows) if rows else np.zeros(0, dtype=int))
         object.__setattr__(self, "coupling_springs", np.concatenate(springs) if springs else np.zeros(0, dtype=int))
+        calls = []
+        for g in self.groups:
+            springs = np.asarray(g.springs)
+            first = int(springs[0]) if springs.size else 0
+            consecutive = np.array_equal(springs, np.arange(first, first + springs.size))
+            if springs.ndim == 1 and springs.dtype.kind in "iu" and consecutive:
+                springs = slice(first, first + springs.size)
+            calls.append((g, g.rows, (g.n, g.dims), springs))
+        object.__setattr__(self, "_calls", tuple(calls))
 
     @property
     def n_connectors(self) -> int:
@@ -446,14 +458,14 @@ class ConnectorOperators:
         if reference is not None:
             d = d - reference
         out = []
-        for g, state in zip(self.groups, states, strict=True):
-            u = d[g.rows].reshape(g.n, g.dims)
+        for (g, rows, shape, springs), state in zip(self._calls, states, strict=True):
+            u = d[rows].reshape(shape)
             if g.velocity:
-                v = np.zeros_like(u) if velocity is None else velocity[g.rows].reshape(g.n, g.dims)
-                response = g.law.respond(state, u, contact[g.springs], dt, velocity=v)
+                v = np.zeros_like(u) if velocity is None else velocity[rows].reshape(shape)
+                response = g.law.respond(state, u, contact[springs], dt, velocity=v)
             else:
-                response = g.law.respond(state, u, contact[g.springs], dt)
-            _check_response(g, response)
+                response = g.law.respond(state, u, contact[springs], dt)
+            _check_response(g, response, shape)
             out.append(response)
         return out
 
@@ -534,15 +546,17 @@ def _has_shape(array, shape: tuple) -> bool:
     return array is None or (type(array) is np.ndarray and array.shape == shape)
 
 
-def _check_response(g: LawGroup, response) -> None:
+def _check_response(g: LawGroup, response, shape: tuple | None = None) -> None:
     """Refuse a response whose arrays do not have the shapes the protocol gives (a wrong shape would
-    otherwise broadcast into a numpy error, or a plausible answer, far from the law that made it)."""
-    n, dims = g.n, g.dims
+    otherwise broadcast into a numpy error, or a plausible answer, far from the law that made it).
+    ``shape``: ``(g.n, g.dims)`` when the caller has it."""
+    shape = shape or (g.n, g.dims)
+    n, dims = shape
     force, tangent = getattr(response, "force", None), getattr(response, "tangent", None)
     if (  # the usual case, in a few attribute reads
         type(force) is np.ndarray
         and type(tangent) is np.ndarray
-        and force.shape == (n, dims)
+        and force.shape == shape
         and tangent.shape == (n, dims, dims)
         and (not g.coupling or _has_shape(response.dforce_dnormal, (n, dims)))
         and (not g.velocity or _has_shape(response.dforce_dvelocity, (n, dims, dims)))

@@ -54,7 +54,7 @@ def test_support_groups_by_position(deck):
     xs = [{round(float(system.model.coordinates[system.model.node_index(n), 0]), 6) for n in g} for g in groups.values()]
     assert all(len(x) == 1 for x in xs)  # one position per group
     positions = [min(x) for x in xs]
-    assert positions == sorted(positions) and len(set(positions)) == len(positions)  # S1, S2, ... along x
+    assert positions == sorted(positions) and len(set(positions)) == len(positions)  # support1, support2, ... along x
     assert sorted(n for g in groups.values() for n in g) == sorted(s.node for s in system.model.supports)
 
 

@@ -28,7 +28,8 @@ def test_the_built_in_families_and_executors_are_registered_with_a_description()
     registry = get_registry()
     assert list(registry.metrics) == ["stress", "stress_dynamic", "stress_increase", "bearing_force", "bearing_shear",
                                       "bearing_displacement", "slip", "friction_ratio", "deck_acceleration",
-                                      "lift_offs", "uplift_time", "uplift_gap"]  # the last three: experiment/uplift.py
+                                      "lift_offs", "uplift_time", "uplift_gap",  # experiment/uplift.py
+                                      "differential_displacement", "quasi_static_share"]  # per-support motion
     assert tuple(registry.executors) == EXECUTORS == ("serial", "processes", "dask")
     for entry in (*registry.metrics.values(), *registry.executors.values()):
         assert isinstance(entry.value.description, str) and entry.value.description

@@ -54,7 +54,8 @@ def test_wave_passage_alone_delays_the_record(manjil):
 def test_generation_is_seeded_and_reproducible(manjil):
     a, dt = manjil
     pos = {"A": (0.0, 0.0), "B": (80.0, 0.0)}
-    var = SpatialVariation(apparent_velocity=800.0, coherency="luco-wong", seed=7, amplitude_iterations=0)
+    var = SpatialVariation(apparent_velocity=800.0, coherency="luco-wong", seed=7, amplitude_iterations=0,
+                           wavelet_iterations=0)
     first, again = spatial_motions(a, dt, pos, var), spatial_motions(a, dt, pos, var)
     other = spatial_motions(a, dt, pos, attrs.evolve(var, seed=8))
     assert np.array_equal(first["B"], again["B"])
@@ -71,7 +72,7 @@ def test_simulated_coherency_matches_the_model_over_seeds(manjil, model):
     hundreds of frequencies of each band the random error is small, so the tolerance is 0.05 plus
     that bias: tight enough to catch a wrong factorisation (none: 0, full: 1)."""
     a, dt = manjil
-    var = SpatialVariation(coherency=model, amplitude_iterations=0)
+    var = SpatialVariation(coherency=model, amplitude_iterations=0, wavelet_iterations=0)
     n = 8192
     f = np.fft.rfftfreq(n, dt)
     s11 = s22 = s12 = 0.0
@@ -87,25 +88,41 @@ def test_simulated_coherency_matches_the_model_over_seeds(manjil, model):
         assert abs(estimate[band].mean() - model_value.mean()) < 0.05 + bias, (lo, hi)
 
 
-def test_support_spectra_stay_near_the_record(manjil):
-    """Each simulated support's 5 %-damped response spectrum over 0.5-10 Hz after the matching passes.
+def _spectrum_misfit(a, dt, out, names, frequencies):
+    """|PSA_support / PSA_record - 1| (supports x components x frequencies), 5 % damping."""
+    periods = 1.0 / frequencies
+    refs = [response_spectrum(a[:, c], dt, periods).psa for c in range(a.shape[1])]
+    return np.array([[np.abs(response_spectrum(out[n][:, c], dt, periods).psa / refs[c] - 1.0)
+                      for c in range(a.shape[1])] for n in names])
 
-    Measured (4 seeds, 4 supports, 3 components, 40 frequencies): mean deviation 2-2.5 %, 95th
-    percentile 7-9 %, a few isolated frequencies up to ~30 %: the issue's "within 10 % everywhere"
-    is NOT met yet (see the module docstring); this test holds what is."""
+
+def test_support_spectra_stay_near_the_record(manjil):
+    """One realisation, two supports, after the ratio and wavelet passes (module docstring): mean and 95th
+    percentile of the misfit over 0.5-10 Hz. Measured: mean about 2 %, 95th percentile about 5 %."""
+    a, dt = manjil
+    out = spatial_motions(a, dt, {"A": (0.0, 0.0), "D": (160.0, 0.0)},
+                          SpatialVariation(apparent_velocity=600.0, coherency="harichandran-vanmarcke", seed=1))
+    devs = _spectrum_misfit(a, dt, out, "D", np.geomspace(0.5, 10.0, 100))
+    assert devs.mean() < 0.03
+    assert np.percentile(devs, 95) < 0.07
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="known shortfall: the largest misfit of one realisation is 8.5-11.9 % "
+                   "(Harichandran-Vanmarcke seed 0: 11.9 %, Luco-Wong seed 2: 10.3 %), above the 10 % asked")
+@pytest.mark.parametrize("model", ["harichandran-vanmarcke", "luco-wong"])
+def test_every_support_spectrum_is_within_ten_percent_of_the_record_over_seeds(manjil, model):
+    """The issue's criterion: each support's 5 %-damped spectrum within 10 % of the record's at every one of 100
+    frequencies over 0.5-10 Hz, every component, three supports, three seeds. Measured (validation of this
+    change): largest misfit 8.5-11.9 % per realisation, so this test FAILS for some seeds: the criterion is not
+    met yet (the report of this change says so)."""
     a, dt = manjil
     pos = {"A": (0.0, 0.0), "B": (40.0, 0.0), "C": (100.0, 0.0), "D": (160.0, 0.0)}
-    periods = 1.0 / np.geomspace(0.5, 10.0, 40)
-    out = spatial_motions(a, dt, pos, SpatialVariation(apparent_velocity=600.0, coherency="harichandran-vanmarcke",
-                                                       seed=1))
-    devs = []
-    for name in "BCD":
-        for c in range(3):
-            ref = response_spectrum(a[:, c], dt, periods).psa
-            devs.append(np.abs(response_spectrum(out[name][:, c], dt, periods).psa / ref - 1.0))
-    devs = np.array(devs)
-    assert devs.mean() < 0.04
-    assert np.percentile(devs, 90) < 0.10
+    worst = {}
+    for seed in range(3):
+        out = spatial_motions(a, dt, pos, SpatialVariation(apparent_velocity=600.0, coherency=model, seed=seed))
+        worst[seed] = float(_spectrum_misfit(a, dt, out, "BCD", np.geomspace(0.5, 10.0, 100)).max())
+    assert max(worst.values()) <= 0.10, worst
 
 
 def test_bad_input_names_the_field(manjil):

@@ -268,7 +268,7 @@ def supported_nodes(system: System) -> list[str]:
     return [s.node for s in system.model.supports]
 
 
-def support_groups(system_or_model, axis: str = "x", tolerance: float = 1.0, prefix: str = "S") -> dict[str, tuple[str, ...]]:
+def support_groups(system_or_model, axis: str = "x", tolerance: float = 1.0, prefix: str = "support") -> dict[str, tuple[str, ...]]:
     """Supported nodes grouped by their position along global ``axis``: nodes within ``tolerance`` (m)
     of the previous one form a group (an abutment, a pier line, an arch springing line). Groups are
     named ``<prefix>1``, ``<prefix>2``, ... in increasing position."""

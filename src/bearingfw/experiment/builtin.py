@@ -12,10 +12,10 @@ from bearingfw.plugins.hookspecs import hookimpl
 
 @hookimpl
 def bearingfw_register_metrics():
-    from bearingfw.experiment.metrics import BUILTIN
+    from bearingfw.experiment.metrics import BUILTIN, SUPPORT_FAMILIES
     from bearingfw.experiment.uplift import UPLIFT_FAMILIES
 
-    return [*BUILTIN, *UPLIFT_FAMILIES]
+    return [*BUILTIN, *UPLIFT_FAMILIES, *SUPPORT_FAMILIES]
 
 
 @hookimpl

@@ -32,7 +32,7 @@ from bearingfw.experiment.acceptance import SUSPECT, accept_cell
 from bearingfw.experiment.cells import CellJob, recording
 from bearingfw.experiment.metrics import MIN_NORMAL_FRACTION, metric_families, recorders, reduce_result
 from bearingfw.experiment.purity import LawPurityError, law_purity_problems
-from bearingfw.experiment.records import ground_acceleration, load_record, scaled_record
+from bearingfw.experiment.records import ground_motion, load_record, scaled_record
 from bearingfw.experiment.store import Store, thinned
 from bearingfw.experiment.structure import (
     build_model,
@@ -130,7 +130,9 @@ def failed_outcome(job: CellJob, exc: BaseException, wall_time: float = 0.0) -> 
 
 
 def _scaled_record(job: CellJob, registry):
-    """The cell's record, read, on the integration grid and scaled to the cell's intensity, and its measures."""
+    """The cell's record, read, on the integration grid and scaled to the cell's intensity, its ground motion
+    (a (steps, 3) array, or for a spatially varying entry a :class:`~bearingfw.experiment.records.SpatialGround`
+    that is the reference group's acceleration as an array) and its measures."""
     experiment = job.experiment
     spec = experiment.record(job.record)
     record = scaled_record(load_record(experiment, spec, registry), job.intensity, experiment.intensities,
@@ -143,7 +145,10 @@ def _scaled_record(job: CellJob, registry):
         "degree": record_degree(record, get_scale(experiment.intensities.scale, registry)),
         "notes": list(record.notes), "peak_ratio": record.min_peak_ratio,
     }
-    return record, ground_acceleration(record, spec.components), measures
+    ground = ground_motion(experiment, spec, record, registry)
+    if hasattr(ground, "support_motion"):
+        measures["spatial"] = ground.spatial.describe()
+    return record, ground, measures
 
 
 def _shake(job: CellJob, model, system, ag, dt, elements, nodes):
@@ -191,14 +196,59 @@ def time_limit(seconds: float):
 @contextlib.contextmanager
 def _caught_warnings():
     """Record the warnings a cell raises (numpy's overflow and invalid-value warnings, say) instead of
-    printing them to the worker's stderr: they go into the cell's document, once each. Only in the
-    main thread (the warnings filters are global to the process); elsewhere they pass as usual."""
-    if threading.current_thread() is not threading.main_thread():
-        yield []
+    printing them to the worker's stderr: they go into the cell's document, once each.
+
+    In the main thread (the serial executor, each process of the pool) the warnings machinery is the
+    cell's own for its duration. Elsewhere (a Dask worker computes cells in threads) the filters and
+    ``warnings.showwarning`` are global to the process and cannot be swapped per cell: a router
+    (:func:`_route_thread_warnings`) sends what a thread computing a cell raises into that cell's list.
+    """
+    if threading.current_thread() is threading.main_thread():
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", RuntimeWarning)  # every one counted, not once per place
+            yield caught
         return
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", RuntimeWarning)  # every one counted, not once per place
+    caught: list = []
+    _route_thread_warnings()
+    _cell_thread.caught = caught
+    try:
         yield caught
+    finally:
+        _cell_thread.caught = None
+
+
+#: Per thread: the warnings list of the cell the thread is computing (None: not computing a cell).
+_cell_thread = threading.local()
+_route_lock = threading.Lock()
+
+
+def _routed(message, category, filename, lineno, file=None, line=None):
+    """``warnings.showwarning`` while cells run in threads: a warning raised by a thread computing a
+    cell goes into the cell's list; any other is shown as it would have been."""
+    caught = getattr(_cell_thread, "caught", None)
+    if caught is not None:
+        caught.append(warnings.WarningMessage(message, category, filename, lineno, file, line))
+        return
+    previous = _routed.previous
+    if previous is getattr(warnings, "_showwarning_orig", None) and hasattr(warnings, "_showwarnmsg_impl"):
+        # the default: through the implementation a catch_warnings(record=True) may have replaced
+        warnings._showwarnmsg_impl(warnings.WarningMessage(message, category, filename, lineno, file, line))
+    else:
+        previous(message, category, filename, lineno, file, line)
+
+
+def _route_thread_warnings() -> None:
+    """Install :func:`_routed` (again, if a ``catch_warnings`` has since restored another) and let
+    every RuntimeWarning through the filters ("always": counted per call, not shown once per place,
+    which would leave a second cell on the same worker without its notes). Process-wide: a process
+    whose threads compute cells shows its other RuntimeWarnings each time too."""
+    with _route_lock:
+        if warnings.showwarning is not _routed:
+            _routed.previous = warnings.showwarning
+            warnings.showwarning = _routed
+        first = warnings.filters[0] if warnings.filters else None
+        if not (first and first[0] == "always" and first[2] is RuntimeWarning and first[1] is None and first[3] is None):
+            warnings.filterwarnings("always", category=RuntimeWarning)
 
 
 def _warning_notes(caught) -> list[str]:

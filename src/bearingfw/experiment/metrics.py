@@ -39,6 +39,24 @@ friction_ratio.<b>      -      maximum abs(F)/N in the sliding directions over t
 deck_acceleration.<d>   m/s^2  peak absolute acceleration over the deck nodes in global d = x, y, z
 ======================  =====  ==========================================================================
 
+Under ground motion given per support (a record entry with ``spatial``,
+:mod:`bearingfw.experiment.records`) a cell also records the support groups' motion
+(:class:`~bearingfw.analysis.SupportResponse`) and :data:`SUPPORT_FAMILIES` measure it (cells of
+uniform records have neither):
+
+=========================  =====  =======================================================================
+family                     unit   value
+=========================  =====  =======================================================================
+differential_displacement  m      peak over time and over every pair of support groups of the
+.<d>                              difference of their ground displacements in global d = x, y, z (the
+                                  pair and the time of the peak kept)
+quasi_static_share.<b>     -      peak of the deformation the quasi-static support motion imposes on the
+                                  bearing (``Psi delta``, the laws at their initial tangent) over the
+                                  peak of its total displacement, both in the sliding directions:
+                                  how much of the bearing's movement the differential support motion
+                                  explains by itself (0 under uniform motion; NaN for JOIN)
+=========================  =====  =======================================================================
+
 Each metric keeps the time of its peak and where it occurred (element end and recovery point,
 node). Metrics always use every integration step; ``[output] every`` only thins the saved
 histories.
@@ -77,6 +95,7 @@ from bearingfw.analysis import (
     ConnectorResponse,
     ElementForces,
     NodalResponse,
+    SupportResponse,
     TransientResult,
     section_stresses,
 )
@@ -88,6 +107,8 @@ __all__ = [
     "DIRECTIONS",
     "MIN_NORMAL_FRACTION",
     "READS",
+    "SUPPORTS",
+    "SUPPORT_FAMILIES",
     "CellResponse",
     "MetricFamily",
     "Peak",
@@ -111,6 +132,10 @@ READS = {
     BEARINGS: "every connector's force, displacement, slip, normal force and friction ratio; items: the connectors",
     DECK: "absolute acceleration of the deck nodes ([structure] deck_nodes); items: the directions x, y, z",
 }
+
+#: The name of the support-motion recorder (cells with ground motion per support only). Not a key of
+#: :data:`READS`: its families read it together with the bearings' response.
+SUPPORTS = "supports"
 
 #: Display units for tables and figures: SI unit -> (factor, label).
 _DISPLAY = {"Pa": (1e-6, "MPa"), "N": (1e-3, "kN"), "m": (1e3, "mm"), "m/s^2": (1.0, "m/s²"), "-": (1.0, "-")}
@@ -181,7 +206,42 @@ def recorders(elements: tuple[str, ...], deck_nodes: tuple[str, ...], model: Mod
         chosen.append(ConnectorResponse(name=BEARINGS))
     if deck_nodes:
         chosen.append(NodalResponse(deck_nodes, quantity="acceleration", total=True, name=DECK))
+    chosen.append(_PerSupportMotion())
     return chosen
+
+
+@attrs.frozen
+class _PerSupportMotion:
+    """:class:`~bearingfw.analysis.SupportResponse` in a run whose ground motion is given per support;
+    in a run of uniform motion (a plain array) it records nothing, so that such cells stay as they were."""
+
+    name: str = SUPPORTS
+    every: int = 1
+
+    @property
+    def label(self) -> str:
+        return self.name
+
+    def bind(self, ctx):
+        if ctx.excitation.support is None:
+            return _Idle(self.name)
+        return SupportResponse(name=self.name).bind(ctx)
+
+
+class _Idle:
+    """A probe that keeps only the sample times it is asked for (the run needs them) and returns nothing."""
+
+    every = 1
+
+    def __init__(self, label: str):
+        self.label = label
+        self.times: list[float] = []
+
+    def sample(self, snapshot) -> None:
+        self.times.append(snapshot.t)
+
+    def finish(self) -> tuple[dict, dict]:
+        return {}, {"kind": "support response", "recorded": False, "why": "uniform ground motion"}
 
 
 def friction_ratio(ratio: np.ndarray, normal_force: np.ndarray) -> np.ndarray:
@@ -237,9 +297,27 @@ class CellResponse:
         displacement = self.result[f"{BEARINGS}.displacement"]
         return displacement - displacement[:1]
 
+    @functools.cached_property
+    def per_support(self) -> bool:
+        """True if the cell's ground motion was given per support (the support response is recorded)."""
+        try:
+            self.result[f"{SUPPORTS}.displacement"]
+        except KeyError:
+            return False
+        return True
+
+    @property
+    def support_groups(self) -> list[str]:
+        """The support groups' names in the order of ``supports.displacement`` (``G1``, ... if unknown)."""
+        described = getattr(self.result, "recorders", {}).get(SUPPORTS, {})
+        count = self.result[f"{SUPPORTS}.displacement"].shape[1]
+        return list(described.get("groups") or [f"G{k + 1}" for k in range(count)])
+
     def histories(self) -> dict[str, np.ndarray]:
         """The raw response kept with a cell besides the families' own histories (module ``execute``):
-        bearings.force, .displacement, .normal_force, .slip, .friction_ratio (masked); deck.acceleration."""
+        bearings.force, .displacement, .normal_force, .slip, .friction_ratio (masked); deck.acceleration;
+        under ground motion per support, supports.displacement (t, groups, 3) and .quasi_static (t, c, 3;
+        0 outside the laws' directions)."""
         out = {}
         if self.records(BEARINGS):
             for key in ("force", "displacement", "normal_force", "slip"):
@@ -247,6 +325,10 @@ class CellResponse:
             out[f"{BEARINGS}.friction_ratio"] = self.friction_ratio
         if self.records(DECK):
             out[f"{DECK}.acceleration"] = self.result[DECK]
+        if self.per_support:
+            out[f"{SUPPORTS}.displacement"] = self.result[f"{SUPPORTS}.displacement"]
+            # 0 outside the laws' directions (NaN in the recorder): nothing is imposed on a law there
+            out[f"{SUPPORTS}.quasi_static"] = np.nan_to_num(self.result[f"{SUPPORTS}.quasi_static"], nan=0.0)
         return out
 
     @property
@@ -369,6 +451,66 @@ BUILTIN = (
     ),
     MetricFamily(
         "deck_acceleration", "m/s^2", "peak absolute deck acceleration", DECK, _deck_acceleration,
+    ),
+)
+
+
+def _differential_displacement(response: CellResponse) -> dict[str, Peak]:
+    if not response.per_support:
+        return {}
+    time = response.time(SUPPORTS)
+    displacement = response[f"{SUPPORTS}.displacement"]  # (t, groups, 3), relative to the reference group
+    groups = response.support_groups
+    first, second = np.triu_indices(len(groups), 1)
+    out = {}
+    for d, direction in enumerate(DIRECTIONS):
+        if first.size == 0:  # one group: nothing moves differentially
+            out[direction] = Peak(0.0, None, None, history=np.zeros(time.size))
+            continue
+        apart = np.abs(displacement[:, first, d] - displacement[:, second, d])  # (t, pairs)
+        value, t, where = _peak(apart, time)
+        if value == 0.0:  # no differential motion in this direction: no pair or time to name
+            out[direction] = Peak(0.0, None, None, history=apart.max(axis=1))
+            continue
+        at = None if where is None else f"{groups[first[where[1]]]}-{groups[second[where[1]]]}"
+        out[direction] = Peak(value, t, at, history=apart.max(axis=1))
+    return out
+
+
+def _quasi_static_share(response: CellResponse) -> dict[str, Peak]:
+    if not response.per_support:
+        return {}
+    time = response.time(SUPPORTS)
+    imposed = response[f"{SUPPORTS}.quasi_static"]  # (t, c, 3), NaN outside the laws' directions
+    out = {}
+    for c, connector in enumerate(response.model.connectors):
+        directions = _sliding(connector)
+        quasi, t, _ = _peak(_norm(np.nan_to_num(imposed[:, c]), directions), time)
+        total, _, _ = _peak(_norm(response.moved[:, c], directions), response.time(BEARINGS))
+        share = quasi / total if math.isfinite(quasi) and math.isfinite(total) and total > 0 else math.nan
+        out[connector.name] = Peak(share, t if math.isfinite(share) else None, None)
+    return out
+
+
+#: The families of ground motion per support (module docstring), registered with :data:`BUILTIN`.
+SUPPORT_FAMILIES = (
+    MetricFamily(
+        "differential_displacement", "m",
+        "peak differential ground displacement between two support groups in global x, y, z", BEARINGS,
+        _differential_displacement,
+        note=("the largest difference of two support groups' ground displacements over time and every pair of groups "
+              "(the pair and time in cells.csv); measured in cells whose ground motion is given per support "
+              "([records.<name>.spatial]) only"),
+        table=False,
+    ),
+    MetricFamily(
+        "quasi_static_share", "-",
+        "peak bearing deformation imposed by the quasi-static support motion over the peak bearing displacement",
+        BEARINGS, _quasi_static_share,
+        note=("peak of the deformation Psi delta(t) the differential support motion imposes quasi-statically (laws at "
+              "their initial tangent) over the peak of the bearing's displacement from its dead-load position, both "
+              "in the sliding directions; cells with ground motion per support only"),
+        table=False,
     ),
 )
 

@@ -16,7 +16,7 @@ import attrs
 
 from bearingfw.experiment.findings import Finding
 from bearingfw.experiment.matrices import Matrices
-from bearingfw.experiment.metrics import metric_family
+from bearingfw.experiment.metrics import display_scale, metric_family
 from bearingfw.experiment.spec import Experiment
 
 __all__ = ["ReportData", "render_report"]
@@ -62,7 +62,12 @@ def _figure_link(data: ReportData, path: Path, alt: str) -> str:
 
 
 def _pngs(data: ReportData, prefix: str) -> list[Path]:
-    return [p for p in data.figures if p.suffix == ".png" and p.name.startswith(prefix)]
+    """The figures whose name starts with ``prefix``, one file each: the PNG, else the first format written."""
+    shown: dict[str, Path] = {}
+    for p in data.figures:
+        if p.name.startswith(prefix) and (p.stem not in shown or p.suffix == ".png"):
+            shown[p.stem] = Path(p)
+    return list(shown.values())
 
 
 def _summary(data: ReportData) -> list[str]:
@@ -103,9 +108,13 @@ def _findings(findings: Sequence[Finding]) -> list[str]:
         groups.setdefault(f.group, []).append(f)
     for group, members in groups.items():
         lines += ["", f"### {group}", ""]
-        lines += _table(["finding", "this run", "holds"],
-                        [(f.statement, f.measured, {True: "yes", False: "**no**", None: "n/a"}[f.holds])
-                         for f in members])
+        marks = {True: "yes", False: "**no**", None: "n/a"}
+        if any(f.explanation for f in members):  # why a finding does not hold, from this run's numbers
+            lines += _table(["finding", "this run", "holds", "why not (this run)"],
+                            [(f.statement, f.measured, marks[f.holds], f.explanation) for f in members])
+        else:
+            lines += _table(["finding", "this run", "holds"],
+                            [(f.statement, f.measured, marks[f.holds]) for f in members])
     return lines
 
 
@@ -159,8 +168,9 @@ def _inputs(data: ReportData) -> list[str]:
     lines += ["", "### Analysis", "",
               f"- integration (HHT-alpha, Newton on the bearing laws): {integration}",
               f"- Rayleigh damping: alpha = {rayleigh.alpha:.4g} 1/s, beta = {rayleigh.beta:.4g} s{source}",
-              ("- the same ground acceleration at every support; dead load first (bearings set after it), then "
-               "the ground motion")]
+              ("- the same ground acceleration at every support" if not any(r.spatial for r in e.records) else
+               "- the ground acceleration at every support, or per support group where a record says so (Support "
+               "motion below)") + "; dead load first (bearings set after it), then the ground motion"]
     chart = _pngs(data, "intensity-chart")
     if chart:
         lines += ["", _figure_link(data, chart[0], "intensity chart")]
@@ -262,6 +272,55 @@ def _matrices(data: ReportData) -> list[str]:
     return lines
 
 
+def _support_motion(data: ReportData) -> list[str]:
+    """Cells whose ground motion varies between supports: how (each record's description), the peak differential
+    ground displacements between support groups, the bearings' quasi-static share, and the table's metrics per
+    record (the matrices combine the records)."""
+    cells = [(i, d) for i, d in data.cells if d is not None and (d.get("record_measures") or {}).get("spatial")]
+    if not cells:
+        return []
+    lines = ["## Support motion", ""]
+    described = {d["record"]: d["record_measures"]["spatial"] for _, d in cells}
+    lines += [f"- {record}: {text}" for record, text in described.items()]
+    factor, unit = display_scale("m")
+    lines += ["", ("Peak differential ground displacement between two support groups (the pair in parentheses) and the "
+                   "largest quasi-static share over the bearings (peak deformation the quasi-static support motion "
+                   "imposes over peak bearing displacement):"), ""]
+    rows = []
+    for cell_id, d in cells:
+        metrics = d.get("metrics") or {}
+        row = [cell_id]
+        for direction in ("x", "y", "z"):
+            m = metrics.get(f"differential_displacement.{direction}") or {}
+            value = m.get("value")
+            row.append("-" if value is None else f"{value * factor:.4g}" + (f" ({m['at']})" if m.get("at") else ""))
+        shares = [(k.partition(".")[2], m.get("value")) for k, m in metrics.items()
+                  if k.startswith("quasi_static_share.") and m.get("value") is not None]
+        best = max(shares, key=lambda kv: kv[1], default=None)
+        row.append("-" if best is None else f"{best[1]:.3g} ({best[0]})")
+        rows.append(row)
+    lines += _table(["cell", f"x [{unit}]", f"y [{unit}]", f"z [{unit}]", "quasi-static share (bearing)"], rows)
+    records = data.experiment.record_names
+    if len(records) > 1:
+        lines += ["", "The table's metrics per record (uniform and varying support motion side by side):"]
+        documents = {(d["model"], d["record"], d["intensity"]): d for _, d in data.cells if d is not None}
+        intensities = [i.name for i in data.intensities]
+        for metric in data.table:
+            scale, shown = display_scale(data.matrices.unit(metric))
+            lines += ["", f"`{metric}` [{shown}]", ""]
+            rows = []
+            for model in data.matrices.models:
+                row = [model]
+                for record in records:
+                    for intensity in intensities:
+                        d = documents.get((model, record, intensity))
+                        value = ((d or {}).get("metrics") or {}).get(metric, {}).get("value")
+                        row.append("-" if value is None else f"{value * scale:.4g}")
+                rows.append(row)
+            lines += _table(["model", *(f"{r} {i}" for r in records for i in intensities)], rows)
+    return lines
+
+
 def _figures(data: ReportData) -> list[str]:
     lines = ["## Figures", ""]
     pngs = {p.stem: p for p in _pngs(data, "")}
@@ -324,6 +383,6 @@ def render_report(data: ReportData) -> str:
     if e.description:
         lines += [e.description.strip(), ""]
     lines += [f"Generated {when} by bearingfw {__version__} on {platform.node() or 'this machine'}.", ""]
-    for part in (_summary, _inputs, _modal, _matrices, _figures, _statistics, _failures):
+    for part in (_summary, _inputs, _modal, _matrices, _support_motion, _figures, _statistics, _failures):
         lines += part(data) + [""]
     return "\n".join(lines)

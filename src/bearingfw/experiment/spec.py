@@ -175,7 +175,7 @@ def _axis_field(axis: str):
 
 @attrs.frozen
 class RecordSpec:
-    """``[records.<name>]``: a ground motion, the same at every support.
+    """``[records.<name>]``: a ground motion, the same at every support unless ``spatial`` says otherwise.
 
     One of: ``seed`` (the synthetic mining tremor of :func:`bearingfw.motion.synthetic_tremor`;
     ``tremor`` holds fields of :class:`bearingfw.motion.TremorParameters`); ``x``, ``y``, ``z``
@@ -185,7 +185,10 @@ class RecordSpec:
     :func:`bearingfw.motion.load_directional`); or ``files`` (horizontal 1, horizontal 2,
     vertical) with ``components``, the record component applied in global x, y and z (default
     h1 -> x, h2 -> y, v -> z). ``format``, ``dt`` and ``units`` describe files that do not state
-    them, as in ``bearingfw record info``.
+    them, as in ``bearingfw record info``. ``spatial``: a table making the motion vary from
+    support to support (per-group records or wave passage and loss of coherency generated from
+    this one; :class:`bearingfw.experiment.records.SpatialSpec`); empty (default): the same
+    motion at every support.
     """
 
     name: str = text_field(pattern=NAME, hint="a name of letters, digits and . _ + - (it names files)")
@@ -205,6 +208,9 @@ class RecordSpec:
     y: str | None = _axis_field("y (across)")
     z: str | None = _axis_field("z (up)")
     vertical_as_horizontal: bool = flag_field(False, "let a file judged vertical drive x or y")
+    spatial: dict = table_field(  # noqa: RUF009 - an attrs field with a factory, not a shared default
+        "ground motion varying from support to support (bearingfw.experiment.records.SpatialSpec); empty: uniform"
+    )
 
     def __attrs_post_init__(self):
         sources = {"seed": self.seed is not None, "files": self.files is not None, "x/y/z": self.mapped}
@@ -501,19 +507,64 @@ class OutputSpec:
     report: bool = flag_field(True, "write report.md")
 
 
+#: What ``[figures] draw`` can be: nothing, the figures report.md shows, or those and the hysteresis sheets.
+FIGURE_DRAW = ("none", "report", "all")
+#: The formats ``[figures] formats`` can name.
+FIGURE_FORMATS = ("png", "svg", "pdf")
+
+
+def _draw_choice(value: Any) -> Any:
+    # true/false, the key's older form, mean the default set of figures and none
+    if isinstance(value, bool):
+        return "report" if value else "none"
+    return value.lower() if isinstance(value, str) else value
+
+
+def _check_draw(instance, attribute, value):
+    if value not in FIGURE_DRAW:
+        raise SpecError(f"FigureSpec: field 'draw' must be true or false, or one of "
+                        f"{', '.join(map(repr, FIGURE_DRAW))}, got {value!r}")
+
+
+def _formats(value: Any) -> Any:
+    # one format may be given as a string; "PNG" is "png"
+    value = (value,) if isinstance(value, str) else listish(value)
+    return tuple(v.lower() if isinstance(v, str) else v for v in value) if isinstance(value, tuple) else value
+
+
+def _check_formats(instance, attribute, value):
+    if not isinstance(value, tuple):
+        raise SpecError(f"FigureSpec: field 'formats' must be a list of figure formats among "
+                        f"{', '.join(map(repr, FIGURE_FORMATS))}, got {value!r}")
+    bad = [v for v in value if v not in FIGURE_FORMATS]
+    if not value or bad:
+        given = f"{bad[0]!r} is not one" if bad else "none given"
+        raise SpecError(f"FigureSpec: field 'formats' must list figure formats among "
+                        f"{', '.join(map(repr, FIGURE_FORMATS))}; {given}")
+    if len(set(value)) != len(value):
+        raise SpecError(f"FigureSpec: field 'formats' names a format twice: {list(value)!r}")
+
+
 @attrs.frozen
 class FigureSpec:
-    """``[figures]``: which figures the run draws (PNG and SVG in ``figures/``).
+    """``[figures]``: which figures the run draws, into ``figures/``.
 
-    For every record and every intensity in ``intensities`` (default all): the stress histories
-    of all models at ``elements`` (default: the first two response elements), the force in
-    ``bearing`` (default: the first governed bearing) for the models ``compare`` (default all), its
-    friction ratio for the models whose law there has a friction coefficient, with the mu line,
-    and with ``hysteresis`` the force-displacement loops of every bearing of every model. Also a
-    heatmap per metric of the table, and the records' intensity chart.
+    ``draw``: ``"report"`` (the default; ``true`` means it too) the figures report.md shows: for
+    every record and every intensity in ``intensities`` (default all) the stress histories at
+    ``elements`` (default: the first two response elements), the force in ``bearing`` (default:
+    the first governed bearing) and its friction ratio (the models whose law there has a
+    friction coefficient, with the mu line), each of the models ``compare`` (default all; a
+    study names the ones its comparison figures show), the experiment's reference model drawn on top; a
+    heatmap per metric of the table, and the records' intensity chart. ``"all"``: those and,
+    with ``hysteresis``, the force-displacement loops of every bearing of every model.
+    ``"none"`` (or ``false``): no figure. ``formats``: the files of each figure
+    (:data:`FIGURE_FORMATS`; default PNG only).
     """
 
-    draw: bool = flag_field(True, "draw figures at all")
+    draw: str = attrs.field(default="report", converter=_draw_choice, validator=_check_draw,
+                            metadata={"doc": "which figures: none, report or all", "range": " | ".join(FIGURE_DRAW)})
+    formats: tuple[str, ...] = attrs.field(default=("png",), converter=_formats, validator=_check_formats,
+                                           metadata={"doc": "files of each figure: png, svg, pdf"})
     intensities: tuple[str, ...] | None = names_field(default=None, optional=True, doc="intensities to draw")
     elements: tuple[str, ...] | None = names_field(default=None, optional=True, doc="elements of the stress figure")
     bearing: str | None = text_field(optional=True, doc="bearing of the force and friction figures")

@@ -93,6 +93,7 @@ builder = "reference"                   # the paper's bridge, or "package.module
 elements = ["S1", "S2", "2A", "3A", "4A", "5A", "2B", "3B", "4B", "5B"]   # stress metrics (default none)
 deck_nodes = ["GA4", "GB4", "GA12", "GB12", "GA32", "GB32", "GA51", "GB51", "GA60", "GB60"]
                                         # accelerations (here both girders at every mid-span; default none)
+mode_labels = "bearingfw.bridges.study:mode_labels"   # "deck lateral 1", "arches lateral 1": whose mode
 # bearings = [...]                      # the connectors the models govern (default: every connector
 #                                       # that is not JOIN; the reference bridge applies presets itself)
 

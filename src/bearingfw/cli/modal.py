@@ -67,7 +67,7 @@ def modal_data(
     from bearingfw.analysis.static import StiffnessRangeError
     from bearingfw.bridges import PRESETS, reference_bridge
     from bearingfw.bridges.paper import MODES, TABLE2_FE
-    from bearingfw.bridges.study import deck_observation
+    from bearingfw.bridges.study import deck_observation, mode_labels
     from bearingfw.structures import reference_parameters
     from bearingfw.tuning import observed_modes
 
@@ -91,8 +91,9 @@ def modal_data(
     deck_label = {m: lab for lab, m in seen.numbered.items()}
     paper = {mode: seen.numbered[mode] for mode in MODES if mode in seen.numbered}
     modes = _mode_entries(modal)
+    whose = mode_labels(modal, params)  # "deck lateral 1", "arches lateral 1": the labels the report uses
     for m, entry in enumerate(modes):
-        entry.update(deck_share=float(seen.share[m]), deck_label=deck_label.get(m))
+        entry.update(deck_share=float(seen.share[m]), deck_label=deck_label.get(m), whose=whose[m])
     data = {
         "structure": "reference",
         "options": {k: v for k, v in given.items() if k not in ("preset", "ks")},
@@ -255,13 +256,14 @@ def run(args) -> int:
             print(f"wrote {path}")
         return 0
     print(f"Reference bridge, bearing model {data['model']}" + (f" (K_s = {data['ks']:g} N/m)" if data["ks"] else ""))
-    print(f"  {'mode':>4}  {'f [Hz]':>8}  {'label':<16}{'deck':>6}  {'deck mode':<14}{'Mx':>6}{'My':>6}{'Mz':>6}")
+    print(f"  {'mode':>4}  {'f [Hz]':>8}  {'whose mode':<22}{'deck':>6}{'Mx':>6}{'My':>6}{'Mz':>6}")
     for m in data["modes"]:
         part = m["participation"]
-        print(f"  {m['index']:>4}  {m['frequency']:8.3f}  {m['label']:<16}{m['deck_share']:6.0%}  "
-              f"{(m['deck_label'] or '-'):<14}{part['x']:6.0%}{part['y']:6.0%}{part['z']:6.0%}")
-    print("  (deck: share of the kinetic energy in the deck's vertical and transverse motion; deck mode: label among "
-          "the modes the deck sensors see; M: effective mass share)")
+        print(f"  {m['index']:>4}  {m['frequency']:8.3f}  {m['whose']:<22}{m['deck_share']:6.0%}"
+              f"{part['x']:6.0%}{part['y']:6.0%}{part['z']:6.0%}")
+    print("  (whose mode: the deck's modes numbered as the paper's Table 2 numbers them, the others by the part with "
+          "the largest share of the kinetic energy; deck: share of the kinetic energy in the deck's vertical and "
+          "transverse motion; M: effective mass share)")
     for name, entry in data["paper"].items():
         print(f"  {name:<12} mode {entry['index']:>3}: {entry['frequency']:.3f} Hz   "
               f"(paper, Table 2 FE: {entry['table2_fe']:.2f} Hz)")

@@ -52,6 +52,7 @@ from bearingfw.experiment.structure import (
     deck_nodes,
     governed_bearings,
     import_paths,
+    mode_labeller,
     registry_for,
     resolved_setup,
     response_elements,
@@ -195,6 +196,7 @@ def check_experiment(experiment: Experiment) -> Checked:
     bearings = governed_bearings(experiment.structure, first)
     connectors = tuple(c.name for c in first.connectors)
     _check_figures(experiment, elements, connectors)
+    mode_labeller(experiment)  # a wrong [structure] mode_labels fails the check, before any cell runs
     records = _check_records(experiment, registry)
     intensities, rayleigh = resolved_setup(experiment, registry)
     families = metric_families(registry)
@@ -418,8 +420,23 @@ def _records_info(experiment: Experiment, checked: Checked) -> tuple[dict, list]
     return info, points
 
 
-def _modal(checked: Checked) -> dict:
-    """The lowest modes of each model (every law at its initial tangent)."""
+def _labels(modal, labeller) -> tuple[tuple[str, ...], str | None]:
+    """The modes' labels: the study's ``[structure] mode_labels`` function's, else the kernel's
+    (also when that function fails, with the reason)."""
+    if labeller is None:
+        return tuple(modal.numbered_labels), None
+    try:
+        labels = tuple(str(label) for label in labeller(modal))
+    except Exception as exc:  # noqa: BLE001 - the user's function: the kernel's labels, and why
+        return tuple(modal.numbered_labels), f"structure.mode_labels failed ({type(exc).__name__}: {exc})"
+    if len(labels) != modal.n_modes:
+        return tuple(modal.numbered_labels), (
+            f"structure.mode_labels returned {len(labels)} labels for {modal.n_modes} modes")
+    return labels, None
+
+
+def _modal(checked: Checked, labeller=None) -> dict:
+    """The lowest modes of each model (every law at its initial tangent), labelled by ``labeller``."""
     out = {}
     for name, system in checked.systems.items():
         try:
@@ -428,11 +445,14 @@ def _modal(checked: Checked) -> dict:
             out[name] = {"error": f"{type(exc).__name__}: {exc}"}
             continue
         ratios = modal.mass_ratios
+        labels, problem = _labels(modal, labeller)
         out[name] = {"modes": [
-            {"frequency": float(modal.frequencies[k]), "label": modal.numbered_labels[k],
+            {"frequency": float(modal.frequencies[k]), "label": labels[k],
              "mass_ratio": {d: float(ratios[d][k]) for d in DIRECTIONS}}
             for k in range(min(MODAL_MODES, modal.n_modes))
         ]}
+        if problem:
+            out[name]["label_note"] = problem
     return out
 
 
@@ -468,7 +488,7 @@ def _results(experiment: Experiment, checked: Checked, store: Store, jobs: list[
              for name in ("matrices.json", "ratios.json", "matrices", "ratios", "cells.csv")}
     files["units.json"] = str(store.write_json("units.json", units_table(matrices)))
     records, points = _records_info(experiment, checked)
-    modal = _modal(checked)
+    modal = _modal(checked, mode_labeller(experiment))
     files["records.json"] = str(store.write_json("records.json", records))
     files["modal.json"] = str(store.write_json("modal.json", modal))
     return _Results(documents, done, failed, suspect, missing, matrices, records, points, modal, files)

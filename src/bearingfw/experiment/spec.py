@@ -98,6 +98,9 @@ class StructureSpec:
     ``sys.path``. ``elements``: frame elements whose stresses are metrics (default none).
     ``deck_nodes``: nodes whose absolute acceleration is a metric (default none). ``bearings``: the
     connectors the bearing models govern (default: every connector that is not JOIN).
+    ``mode_labels``: a function (named like ``builder``) called with a
+    :class:`~bearingfw.analysis.ModalResult` that returns one label per mode for the report's modal
+    table, e.g. saying which part of the structure a mode belongs to (default: the kernel's labels).
 
     A builder that takes a ``preset`` keyword applies a preset bearing model itself (with ``ks``
     and ``friction`` if it takes them), unless ``bearings`` is given; otherwise the preset's laws
@@ -113,6 +116,11 @@ class StructureSpec:
     elements: tuple[str, ...] | None = names_field(default=None, optional=True, doc="response elements")
     bearings: tuple[str, ...] | None = names_field(default=None, optional=True, doc="connectors the models govern")
     deck_nodes: tuple[str, ...] | None = names_field(default=None, optional=True, doc="nodes for deck accelerations")
+    mode_labels: str | None = text_field(
+        optional=True, pattern=re.compile(r"^\S.*:\S+$"),
+        hint="'package.module:function' or 'path/to/file.py:function'",
+        doc="a function naming each mode of a ModalResult, e.g. whose mode it is (default: the kernel's labels)",
+    )
 
 
 # ---- [models.<name>] ----------------------------------------------------------------------------------

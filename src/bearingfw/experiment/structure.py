@@ -47,6 +47,7 @@ from bearingfw.structures import (
 
 __all__ = [
     "build_model",
+    "mode_labeller",
     "code_inputs",
     "deck_nodes",
     "governed_bearings",
@@ -101,6 +102,17 @@ def _builder(experiment: Experiment):
         return load_builder(structure.builder, base_dir=experiment.base_dir, python_path=experiment.python_path)
     except StructureError as exc:
         raise SpecError(f"structure.builder: {exc}") from None
+
+
+def mode_labeller(experiment: Experiment):
+    """The function ``[structure] mode_labels`` names, or None; errors name the key."""
+    spec = experiment.structure.mode_labels
+    if spec is None:
+        return None
+    try:
+        return load_builder(spec, base_dir=experiment.base_dir, python_path=experiment.python_path)
+    except StructureError as exc:
+        raise SpecError(f"structure.mode_labels: {exc}") from None
 
 
 def structure_model(experiment: Experiment, extra: dict | None = None) -> Model:

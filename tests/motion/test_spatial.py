@@ -96,6 +96,7 @@ def _spectrum_misfit(a, dt, out, names, frequencies):
                       for c in range(a.shape[1])] for n in names])
 
 
+@pytest.mark.slow  # the wavelet passes take tens of seconds per realisation
 def test_support_spectra_stay_near_the_record(manjil):
     """One realisation, two supports, after the ratio and wavelet passes (module docstring): mean and 95th
     percentile of the misfit over 0.5-10 Hz. Measured: mean about 2 %, 95th percentile about 5 %."""

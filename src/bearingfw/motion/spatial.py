@@ -188,6 +188,20 @@ def _cholesky(matrix: np.ndarray) -> np.ndarray:
         return np.linalg.cholesky(fixed / np.outer(d, d) + 1e-12 * np.eye(len(d)))
 
 
+def _cholesky_stack(matrices: np.ndarray) -> np.ndarray:
+    """:func:`_cholesky` of each of ``matrices`` (nf, g, g): one batched factorisation; only where it
+    fails (a coherency of one makes the matrix singular) the clipped one, matrix by matrix."""
+    try:
+        return np.linalg.cholesky(matrices)
+    except np.linalg.LinAlgError:
+        pass
+    # numpy refuses the whole stack if one matrix fails: then each alone, with the clipped fallback
+    L = np.empty_like(matrices)
+    for i in range(matrices.shape[0]):
+        L[i] = _cholesky(matrices[i])
+    return L
+
+
 def _envelope(a: np.ndarray, dt: float, size: int, window: float = 1.0) -> np.ndarray:
     """(size, components): the record's moving RMS over ``window`` s, scaled so that a stationary
     signal of the record's mean square over ``size`` samples keeps its energy when multiplied by it."""
@@ -378,9 +392,7 @@ def spatial_motions(acceleration, dt: float, positions, variation: SpatialVariat
         gamma = coherency(variation, distance[None, :, :], f[:, None, None])  # (nf, g, g)
         rng = np.random.default_rng(variation.seed)
         g = len(order)
-        L = np.empty_like(gamma)
-        for i in range(f.size):
-            L[i] = _cholesky(gamma[i])
+        L = _cholesky_stack(gamma)
         amplitude = np.abs(X1)
         envelope = _envelope(a, dt, size)
         frequencies = WAVELET_FREQUENCIES[WAVELET_FREQUENCIES < 0.4 / dt]

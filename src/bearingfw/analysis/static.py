@@ -9,11 +9,14 @@ Equilibrium on the free DOFs ``q`` (``u = T q``)::
 laws' displacement is zero. How the bearings take part is the option ``bearings``:
 
 - ``"active"`` (default of :func:`solve_static`): the laws act from their virgin state at the
-  undeformed geometry (``d_ref = 0``). Newton with the laws' consistent tangents, one load step
-  (a linear law converges in one iteration); within an iteration ``N`` is taken from the current
-  iterate (its derivative is not part of the tangent), except that a first iteration at which
-  the laws' tangents at ``N = 0`` leave the structure a mechanism (friction without contact has
-  no stick stiffness) is taken with ``N`` of the load carried by the vertical springs. Under gravity a friction bearing whose
+  undeformed geometry (``d_ref = 0``). Newton with a consistent Jacobian, one load step (a linear
+  law converges in one iteration): the laws' tangents and, for laws with dF/dN, the part of ``N``
+  following the vertical springs (``-B^T E diag(kv) V``, as in the transient Jacobian); a
+  correction that does not cut the residual is halved (a line search: across stick-slip switches
+  full corrections can cycle). The first iteration, at ``q = 0`` where the laws' force is zero,
+  takes their tangent at ``N`` of the load carried by the vertical springs: a friction law has
+  no capacity, hence no stiffness, without contact, and starting from the load carried with every
+  friction bearing free lands far from the equilibrium. Under gravity a friction bearing whose
   girder end moves (rotation times the soffit offset, shortening) may slip already.
 - ``"set-after-dead-load"`` (default of :func:`gravity`): the bearings are installed in the
   dead-load position, as usual in practice (preset so that the dead-load movements are
@@ -108,6 +111,10 @@ SYMMETRIC_ORDERING = "MMD_AT_PLUS_A"
 STABILIZER = 1e-8
 #: The round-off of a residual ``f - K q``, relative to the size ``|K| |q|`` of the terms it sums.
 _ROUNDOFF = 1024 * np.finfo(float).eps
+#: Halvings of a Newton correction of the active static solve at most (:func:`_backtrack`).
+_BACKTRACKS = 10
+#: Armijo's sufficient decrease: a correction of length ``lam`` must cut the residual norm by ``_ARMIJO lam``.
+_ARMIJO = 1e-4
 #: A tangent block of a law counts as having lost its stiffness below this fraction of its initial one.
 _LOST = 1e-9
 #: A law tangent beyond this multiple of the structure's stiffest diagonal term is out of range
@@ -607,20 +614,17 @@ def _lost_stiffness(system: System, responses, N_springs: np.ndarray, dt: float)
 def _active(system: System, f: np.ndarray, dt: float, tol: float, max_iter: int):
     """Newton with the laws acting from their virgin state (``bearings="active"``).
 
-    The first iteration is at the undeformed geometry, where every ``N`` is zero. If the laws'
-    tangents leave the structure a mechanism there (a friction law has no stick stiffness without
-    contact), it is taken again with the normal forces of the load carried by the vertical springs
-    (the governed directions free; :func:`_carried_normal_forces`), and Newton goes on from there.
+    The first iteration is at the undeformed geometry, where the laws' displacement and so their
+    force is zero; only their tangent depends on ``N`` there. It is taken with the normal forces of
+    the load carried by the vertical springs (the governed directions free;
+    :func:`_carried_normal_forces`): a friction law then has its stick stiffness, as the bearing
+    has under the dead load, not the zero tangent of no contact (``N = 0`` at ``q = 0``), which
+    would start Newton from the load carried with every friction bearing free, far from the
+    equilibrium, from where the stick-slip switches can cycle. Only if that solve is singular
+    does the first iteration take ``N = 0``.
     """
-    try:
-        return _newton_active(system, f, dt, tol, max_iter, None)
-    except StiffnessRangeError:
-        raise
-    except ModelError:
-        N_start = _carried_normal_forces(system, f)
-        if N_start is None:
-            raise
-        return _newton_active(system, f, dt, tol, max_iter, N_start)
+    N_start = _carried_normal_forces(system, f) if system.connectors.groups else None
+    return _newton_active(system, f, dt, tol, max_iter, N_start)
 
 
 def _carried_normal_forces(system: System, f: np.ndarray) -> np.ndarray | None:
@@ -639,36 +643,78 @@ def _carried_normal_forces(system: System, f: np.ndarray) -> np.ndarray | None:
     return ops.normal_forces(system.V_free @ q)
 
 
+@attrs.frozen(eq=False)
+class _ActiveTrial:
+    """An iterate of :func:`_newton_active` and what the laws say there."""
+
+    q: np.ndarray
+    u: np.ndarray
+    N: np.ndarray  # per spring row
+    follows: bool  # N is N(q) (False: the first iterate's N_start), so dF/dN belongs in the Jacobian
+    responses: list
+    f_law: np.ndarray
+    residual: np.ndarray
+
+    @property
+    def size(self) -> float:
+        return float(np.max(np.abs(self.residual), initial=0.0))
+
+    @property
+    def merit(self) -> float:
+        merit = float(np.linalg.norm(self.residual))
+        return merit if np.isfinite(merit) else np.inf
+
+
 def _newton_active(system: System, f: np.ndarray, dt: float, tol: float, max_iter: int, N_start):
-    """:func:`_active`'s Newton; ``N_start``: the normal forces of the first iteration (None: from ``q = 0``)."""
+    """:func:`_active`'s Newton; ``N_start``: the normal forces of the first iteration (None: from ``q = 0``).
+
+    The Jacobian is consistent: the laws' tangents and, for laws with dF/dN, the part of
+    ``N = -kv V q`` (``-B^T E diag(kv) V``, as in the transient Jacobian). A correction that does
+    not cut the residual norm by Armijo's factor is halved (at most :data:`_BACKTRACKS` times, then
+    the best trial is taken): across a stick-slip switch the full correction can overshoot, and
+    Newton would otherwise cycle between slip patterns. A correction that does converges takes the
+    full step, so a smooth problem follows plain Newton exactly.
+    """
     ops = system.connectors
     T = system.T
     f_free = T.T @ f
     states0 = ops.initial_states()
-    q = np.zeros(system.n_free)
-    for iteration in range(max_iter + 1):
+
+    def evaluate(q: np.ndarray, N=None) -> _ActiveTrial:
         u = T @ q
-        N = ops.normal_forces(ops.V @ u) if iteration or N_start is None else N_start
+        follows = N is None
+        if follows:
+            N = ops.normal_forces(ops.V @ u)
         responses = ops.respond(states0, ops.B @ u, N, dt)
         f_law = ops.forces(responses)
         residual = system.K_free @ q + system.B_free.T @ f_law - f_free
-        scale = max(_force_scale(f, f_law), 1e-300)
-        if np.max(np.abs(residual), initial=0.0) <= tol * scale:
-            return u, f_law, tuple(r.state for r in responses), iteration
+        return _ActiveTrial(q, u, N, follows, responses, f_law, residual)
+
+    def converged(trial: _ActiveTrial) -> bool:
+        return trial.size <= tol * max(_force_scale(f, trial.f_law), 1e-300)
+
+    trial = evaluate(np.zeros(system.n_free), N_start)
+    for iteration in range(max_iter + 1):
+        if converged(trial):
+            return trial.u, trial.f_law, tuple(r.state for r in trial.responses), iteration
         if iteration == max_iter:
+            scale = max(_force_scale(f, trial.f_law), 1e-300)
             raise ConvergenceError(
                 f"solve_static: no equilibrium after {max_iter} Newton iterations "
-                f"(residual {np.max(np.abs(residual)):.3g} vs force scale {scale:.3g})"
+                f"(residual {trial.size:.3g} vs force scale {scale:.3g})"
             )
+        responses = trial.responses
         blocks = ops.tangent_blocks(responses)
         check_law_tangents(system, blocks)
         Kt = system.K_free + system.B_free.T @ ops.tangent(responses) @ system.B_free
+        if ops.any_coupling and trial.follows:
+            Kt = Kt + system.B_free.T @ (_normal_coupling(ops, responses, trial.N) @ system.V_free)
         try:
             lu = _factorize_with_laws(Kt, system, blocks)
         except ModelError as exc:
             if iteration == 0 or isinstance(exc, StiffnessRangeError):  # a mechanism of the structure, or a law
                 raise
-            slipping = _lost_stiffness(system, responses, N, dt)
+            slipping = _lost_stiffness(system, responses, trial.N, dt)
             raise ConvergenceError(
                 "solve_static (bearings='active'): the bearings "
                 f"{', '.join(map(repr, slipping)) or '(unidentified)'} slip under this load and their tangent "
@@ -677,7 +723,28 @@ def _newton_active(system: System, f: np.ndarray, dt: float, tol: float, max_ite
                 "of the structure (it stands with the bearings' initial stiffness). For a dead load use "
                 f"bearings='set-after-dead-load' (the bearings installed in the dead-load position). [{exc}]"
             ) from exc
-        q = q - lu.solve(residual)
+        trial = _backtrack(evaluate, converged, trial, -lu.solve(trial.residual))
+
+
+def _backtrack(evaluate, converged, current: _ActiveTrial, dq: np.ndarray) -> _ActiveTrial:
+    """The iterate ``current.q + lam dq`` with the largest ``lam = 1, 1/2, ...`` that converges or cuts
+    the residual norm by Armijo's factor; the smallest residual of those tried if none does."""
+    best, lam = None, 1.0
+    for _ in range(_BACKTRACKS + 1):
+        trial = evaluate(current.q + lam * dq)
+        if converged(trial) or trial.merit <= (1.0 - _ARMIJO * lam) * current.merit:
+            return trial
+        if best is None or trial.merit < best.merit:
+            best = trial
+        lam *= 0.5
+    return best
+
+
+def _normal_coupling(ops, responses, N_springs: np.ndarray) -> sp.csr_matrix:
+    """``d f_law / d (V u)`` of the laws with dF/dN: ``-E diag(kv)``, ``E`` their ``dF/dN`` (rows of
+    ``B`` by spring rows), as in the transient Jacobian; zero where ``N <= 0`` (the clamp)."""
+    rows, springs, values = ops.normal_derivatives(responses, N_springs)
+    return sp.csr_matrix((-values * ops.kv[springs], (rows, springs)), shape=(ops.n_governed, ops.kv.size))
 
 
 def _set_after_dead_load(system: System, f: np.ndarray, dt: float, tol: float, max_iter: int):

@@ -99,7 +99,8 @@ def plan_cells(
         models = {m.name: build_model(experiment, m, registry) for m in experiment.models}
     intensities, rayleigh = setup or resolved_setup(experiment, registry)
     common = {
-        "structure": attrs.asdict(experiment.structure),
+        # mode_labels only names modes in the report: not an input of any cell
+        "structure": attrs.asdict(experiment.structure, filter=lambda a, _: a.name != "mode_labels"),
         "integration": attrs.asdict(experiment.integration),
         "damping": {"alpha": rayleigh.alpha, "beta": rayleigh.beta},
         "plugins": list(experiment.plugins),

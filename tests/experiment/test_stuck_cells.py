@@ -22,11 +22,18 @@ psutil = pytest.importorskip("psutil")
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="signals to a process: POSIX")
 
 
+def _sigint_as_at_a_terminal() -> None:
+    # a job started in the background by a non-interactive shell (as CI scripts may be) inherits SIGINT
+    # ignored, and Python then never raises KeyboardInterrupt; a run started at a terminal has the default
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _start(spec, out, executor: str) -> subprocess.Popen:
     return subprocess.Popen(
         [sys.executable, "-m", "bearingfw", "run", str(spec), "--out", str(out), "--executor", executor,
          "--workers", "2", "--quiet"],
         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True,
+        preexec_fn=_sigint_as_at_a_terminal,
     )
 
 

@@ -51,6 +51,10 @@ called exactly as above):
 - ``rate_dependent = True``: the response depends on ``dt`` or the velocity (implied by
   ``uses_velocity``). A law that does not say so must give the same forces along a displacement
   path whatever the time step.
+- ``linear = True``: the force is affine in ``u`` with one constant tangent, ``F(u) = F(0) + K u``,
+  whatever the state, normal force and ``dt``, and the state never changes (a linear spring, free
+  sliding). A run whose laws are all linear folds ``K`` into the kernel's factorised matrix: a step
+  is one back-substitution, with no law call. The conformance suite checks the claim.
 - ``rate_independent_limit() -> (law, equivalent)``: for a rate-dependent law, a copy of it with
   its rate dependence switched off and a rate-independent law that must then respond identically.
 """
@@ -68,7 +72,7 @@ __all__ = ["BearingLaw", "LawResponse", "OPTIONAL_FLAGS", "PROTOCOL_MEMBERS", "l
 PROTOCOL_MEMBERS = ("name", "dims", "rigid", "initial_state", "respond")
 #: Optional boolean class attributes by which a law asks for more (module docstring), all False
 #: when absent.
-OPTIONAL_FLAGS = ("uses_velocity", "normal_coupling", "per_bearing", "friction", "rate_dependent")
+OPTIONAL_FLAGS = ("uses_velocity", "normal_coupling", "per_bearing", "friction", "rate_dependent", "linear")
 
 
 def law_flag(law: Any, flag: str) -> bool:

@@ -17,9 +17,9 @@ U_YIELD = MU * N / K
 @pytest.mark.parametrize(
     "cls, declared",
     [
-        (Frictionless, {"friction"}),
+        (Frictionless, {"friction", "linear"}),
         (Fixed, set()),
-        (LinearSpring, {"per_bearing"}),
+        (LinearSpring, {"per_bearing", "linear"}),
         (RegularizedCoulomb, {"per_bearing", "friction", "normal_coupling"}),
     ],
 )

@@ -122,6 +122,7 @@ except ImportError:  # pragma: no cover - a scipy that moved them
 from bearingfw.analysis.energy import Energy, advance_energy
 from bearingfw.analysis.static import SYMMETRIC_ORDERING, factorize
 from bearingfw.model import ConnectorOperators, ModelError
+from bearingfw.protocol import law_flag
 
 __all__ = [
     "Scheme",
@@ -323,6 +324,8 @@ class Operator:
     #: the rows of ``cNW`` of the coupled springs over their ``kv`` (``c V W``: their vertical
     #: displacement per unit law force), for the Jacobian with dF/dN (module docstring)
     cVW: np.ndarray | None = None
+    #: the linear laws' tangent ``K_l`` folded into ``A`` (:func:`linear_tangent`); None: Newton on the laws
+    linear: np.ndarray | None = None
     eye: np.ndarray = attrs.field(init=False, repr=False)
     #: ``[c S; -c V W]``: both block rows of the Jacobian with dF/dN, one product each (module docstring)
     cSV: np.ndarray | None = attrs.field(init=False, repr=False)
@@ -340,19 +343,39 @@ class Operator:
         return None if self.cSN is None else self.cSN[self.m :]
 
 
+def linear_tangent(p: Problem, h: float) -> np.ndarray | None:
+    """The laws' constant tangent ``K_l`` (m x m) when every law of the run declares ``linear``
+    (:mod:`bearingfw.protocol`) and the fast path runs; None otherwise.
+
+    Such laws answer ``phi(d) = K_l (d - d_0)`` whatever their state, normal force and step, so
+    ``A x + c B^T phi(B x + e) = r`` is the linear system ``(A + c B^T K_l B) x = r - c B^T K_l e``
+    (``e``: the support motion's offset): the tangent goes into the factorised matrix and a step is
+    one back-substitution, with no law call and no Newton iteration."""
+    ops = p.ops
+    if not (p.fast and p.m) or ops.any_velocity or p.coupled.size:
+        return None
+    if not all(law_flag(g.law, "linear") for g in ops.groups):
+        return None
+    return np.asarray(ops.tangent(ops.respond(ops.initial_states(), p.d0, p.N0, h)).toarray())
+
+
 def build_operator(p: Problem, h: float) -> Operator:
-    """Factorise ``A`` for step ``h`` (and, on the fast path, condense it onto the bearings)."""
+    """Factorise ``A`` for step ``h`` (and, on the fast path, condense it onto the bearings, or fold
+    linear laws into it: :func:`linear_tangent`)."""
     c = 1.0 + p.scheme.alpha
     A = effective_matrix(p.M, p.K, p.a0, p.a1, p.scheme, h)
+    linear = linear_tangent(p, h)
+    if linear is not None:
+        A = (A + c * (p.Bt @ sp.csr_matrix(linear) @ p.B)).tocsc()
     lu = factor(A)
     cW = cSN = cVW = None
-    if p.fast and p.m:
+    if p.fast and p.m and linear is None:
         cW = c * lu.solve(p.Bt.toarray())
         cSN = np.asarray(p.mul.BV @ cW)
         if p.coupled.size:
             cVW = cSN[p.m + p.coupled].copy()
         cSN[p.m :] *= p.kv[:, None]
-    return Operator(h, None if p.fast else A, lu.solve, cW, cSN, p.m, cVW)
+    return Operator(h, None if p.fast else A, lu.solve, cW, cSN, p.m, cVW, linear)
 
 
 @attrs.frozen(eq=False)
@@ -719,6 +742,12 @@ def _coupled_correction(p: Problem, op: Operator, trial: _FastTrial):
 
 
 def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, force_scale: float, motion: Motion):
+    if op.linear is not None:  # linear laws, folded into A: x in one back-substitution (linear_tangent)
+        e = motion.offset
+        x = op.solve(r if e is None else r - (1.0 + p.scheme.alpha) * (p.mul.Bt @ (op.linear @ e[: p.m])))
+        d, N = p.bearings(x, e)
+        phi = op.linear @ (d - p.d0)
+        return x, p.f0 + phi, d, N, s.law_states, 0, 0, (None, None, None, phi)
     x_lin = op.solve(r)
     if not p.m:
         return x_lin, s.f, s.d, p.bearings(x_lin, motion.offset)[1], s.law_states, 0, 0, _NOT_LINEARISED

@@ -205,15 +205,20 @@ class MultiplierMap:
         """The multipliers ``rows`` beyond the preload's at the instant ``s``; ``support``: the differential
         support motion ``(delta, delta', delta'')`` at ``s.t`` (:meth:`Excitation.support_differences`)."""
         a = s.a if s.a_equilibrium is None else s.a_equilibrium
+        return self.combine(s.x, s.v, a, s.ground_acceleration, s.f, s.nodal, a0, a1, law_forces0, support)
+
+    def combine(self, x, v, a, ground, f, nodal, a0: float, a1: float, law_forces0: np.ndarray, support=None):
+        """:meth:`dynamic` from the state's arrays: vectors for one instant, or instants side by side as
+        columns (then ``law_forces0`` stays a vector and ``support`` holds columns too)."""
         lam = (
-            self.inertia @ (a + a0 * s.v)
-            + self.stiffness @ (s.x + a1 * s.v)
-            + self.ground @ s.ground_acceleration
-            + self.laws @ (s.f - law_forces0)
+            self.inertia @ (a + a0 * v)
+            + self.stiffness @ (x + a1 * v)
+            + self.ground @ ground
+            + self.laws @ (f - (law_forces0 if f.ndim == 1 else law_forces0[:, None]))
         )
         if support is not None and self.support_inertia is not None:
             lam = lam + self.support_inertia @ support[2] + self.support_stiffness @ support[0]
-        return lam if s.nodal is None else lam - self.nodal @ s.nodal
+        return lam if nodal is None else lam - self.nodal @ nodal
 
 
 @attrs.frozen(eq=False)
@@ -271,19 +276,41 @@ class Context:
 
 
 class _Probe:
-    """Collects one recorder's samples; ``finish`` returns its arrays and description."""
+    """Collects one recorder's samples; ``finish`` returns its arrays and description.
+
+    Samples are evaluated in chunks of :attr:`CHUNK` instants: a product of a recorder's matrix with
+    the chunk's states side by side costs about what one product with one state does, so the per-step
+    cost of recording is a list append. A probe gives ``_sample_many`` (a chunk of snapshots, in time
+    order) or ``_sample`` (one snapshot; the default ``_sample_many`` loops over it)."""
+
+    #: snapshots a probe holds before it evaluates them together (they keep the states alive)
+    CHUNK = 64
 
     def __init__(self, spec):
         self.spec = spec
         self.label = spec.label
         self.every = spec.every
         self.times: list[float] = []
+        self._pending: list[Snapshot] = []
 
     def sample(self, s: Snapshot) -> None:
         self.times.append(s.t)
-        self._sample(s)
+        self._pending.append(s)
+        if len(self._pending) >= self.CHUNK:
+            self.flush()
+
+    def flush(self) -> None:
+        """Evaluate the snapshots held so far."""
+        if self._pending:
+            pending, self._pending = self._pending, []
+            self._sample_many(pending)
+
+    def _sample_many(self, snapshots: list[Snapshot]) -> None:
+        for s in snapshots:
+            self._sample(s)
 
     def finish(self) -> tuple[dict[str, np.ndarray], dict]:
+        self.flush()
         data, meta = self._finish()
         data[f"{self.label}.time"] = np.array(self.times)
         return data, meta
@@ -311,11 +338,24 @@ def _section_force_map(ctx: Context, names: tuple[str, ...]) -> tuple[sp.csr_mat
     return (L_full @ sys.T).tocsr(), dead, None if dif is None else np.asarray(L_full @ dif.psi)
 
 
-def _with_support(value: np.ndarray, quasi: np.ndarray | None, ctx: Context, t: float) -> np.ndarray:
-    """``value`` plus ``quasi @ delta(t)``: the differential support motion's quasi-static share."""
-    if quasi is None:
-        return value
-    return value + quasi @ ctx.excitation.support_differences(t)[0]
+def _columns(snapshots: list[Snapshot], field: str) -> np.ndarray:
+    """(n, k): the snapshots' ``field`` side by side, one column per instant."""
+    return np.stack([getattr(s, field) for s in snapshots], axis=1)
+
+
+def _support_columns(ctx: Context, snapshots: list[Snapshot], k: int) -> np.ndarray | None:
+    """(3 per differing group, instants): the ``k``-th of the differential support displacement, velocity
+    and acceleration at each snapshot; None for uniform motion."""
+    if ctx.excitation.differential is None:
+        return None
+    return np.stack([ctx.excitation.support_differences(s.t)[k] for s in snapshots], axis=1)
+
+
+def _rows_with_support(rows: list, value: np.ndarray, quasi: np.ndarray | None, ctx: Context, snapshots) -> None:
+    """Append the columns of ``value`` (n, instants), plus the quasi-static share, as rows."""
+    if quasi is not None:
+        value = value + quasi @ _support_columns(ctx, snapshots, 0)
+    rows.extend(value.T)
 
 
 # ---- element stresses and section forces ------------------------------------------------------
@@ -363,8 +403,8 @@ class _StressProbe(_Probe):
         self.ctx = ctx
         self.rows: list[np.ndarray] = []
 
-    def _sample(self, s: Snapshot) -> None:
-        self.rows.append(_with_support(self.L @ s.x, self.L_psi, self.ctx, s.t))
+    def _sample_many(self, snapshots: list[Snapshot]) -> None:
+        _rows_with_support(self.rows, self.L @ _columns(snapshots, "x"), self.L_psi, self.ctx, snapshots)
 
     def _finish(self):
         spec = self.spec
@@ -403,8 +443,8 @@ class _ForcesProbe(_Probe):
         self.ctx = ctx
         self.rows: list[np.ndarray] = []
 
-    def _sample(self, s: Snapshot) -> None:
-        self.rows.append(_with_support(self.L @ s.x, self.L_psi, self.ctx, s.t))
+    def _sample_many(self, snapshots: list[Snapshot]) -> None:
+        _rows_with_support(self.rows, self.L @ _columns(snapshots, "x"), self.L_psi, self.ctx, snapshots)
 
     def _finish(self):
         n = len(self.spec.elements)
@@ -525,6 +565,47 @@ class _ConnectorProbe(_Probe):
             gap = np.full(self.index.size, np.nan)
             gap[self.gap_slots] = d[self.gap_rows]  # the total d_z: > 0 open
             self.gaps.append(gap)
+
+    def _sample_many(self, snapshots: list[Snapshot]) -> None:
+        if any(s.d is None or s.a_equilibrium is None for s in snapshots):
+            super()._sample_many(snapshots)  # a state without its law displacements: one at a time
+            return
+        ctx = self.ctx
+        k = len(snapshots)
+        x = _columns(snapshots, "x")
+        f = _columns(snapshots, "f")
+        d = _columns(snapshots, "d")
+        support = None
+        if ctx.excitation.differential is not None:
+            support = tuple(_support_columns(ctx, snapshots, i) for i in range(3))
+        lam = np.tile(ctx.preload.multipliers, (k, 1))
+        if self.multipliers is not None:
+            nodal = None if snapshots[0].nodal is None else _columns(snapshots, "nodal")
+            lam[:, self.multipliers.rows] += self.multipliers.combine(
+                x, _columns(snapshots, "v"), _columns(snapshots, "a_equilibrium"), _columns(snapshots, "ground_acceleration"),
+                f, nodal, ctx.a0, ctx.a1, ctx.preload.law_forces, support,
+            ).T
+        if self.springs is not None:
+            shortening = self.springs @ x if support is None else self.springs @ x + self.springs_psi @ support[0]
+            springs = (self.kv[:, None] * (self.springs0[:, None] + shortening)).T
+        else:
+            springs = np.zeros((k, 0))
+        forces = self.recovery.connector_forces(springs, f.T, lam)
+        self.forces.extend(forces[:, self.index])
+        moved = self.D @ x if support is None else self.D @ x + self.D_psi @ support[0]
+        self.disp.extend((self.D0[:, None] + moved).T.reshape(k, -1, 3))
+        law_disp = np.full((k, 3 * self.index.size), np.nan)
+        law_disp[:, self.law_slots] = d[self.law_rows].T
+        self.law_disp.extend(law_disp.reshape(k, -1, 3))
+        slip = np.full((k, 3 * self.index.size), np.nan)
+        for gi, slip_of, members, slot in self.slips:
+            for row, s in zip(slip, snapshots, strict=True):
+                row[slot] = np.asarray(slip_of(s.law_states[gi]), dtype=float)[members].reshape(-1)
+        self.slip.extend(slip.reshape(k, -1, 3))
+        if self.gap_rows.size:
+            gap = np.full((k, self.index.size), np.nan)
+            gap[:, self.gap_slots] = d[self.gap_rows].T  # the total d_z: > 0 open
+            self.gaps.extend(gap)
 
     def _finish(self):
         name = self.label
@@ -711,17 +792,18 @@ class _NodalProbe(_Probe):
         self.ctx = ctx
         self.rows: list[np.ndarray] = []
 
-    def _sample(self, s: Snapshot) -> None:
+    def _sample_many(self, snapshots: list[Snapshot]) -> None:
         quantity = self.spec.quantity
-        value = self.T @ (s.x if quantity == "displacement" else s.v if quantity == "velocity" else s.a)
+        value = self.T @ _columns(snapshots, {"displacement": "x", "velocity": "v", "acceleration": "a"}[quantity])
         if self.offset is not None:
-            value = value + self.offset
+            value = value + self.offset[:, None]
         if self.R is not None:
-            value = value + self.R @ (s.ground_velocity if quantity == "velocity" else s.ground_acceleration)
+            value = value + self.R @ _columns(
+                snapshots, "ground_velocity" if quantity == "velocity" else "ground_acceleration"
+            )
         if self.psi is not None:  # the quasi-static motion of the differential support motion
-            k = QUANTITIES.index(quantity)
-            value = value + self.psi @ self.ctx.excitation.support_differences(s.t)[k]
-        self.rows.append(value)
+            value = value + self.psi @ _support_columns(self.ctx, snapshots, QUANTITIES.index(quantity))
+        self.rows.extend(value.T)
 
     def _finish(self):
         spec = self.spec

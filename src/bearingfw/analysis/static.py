@@ -547,12 +547,14 @@ class ForceRecovery:
         )
 
     def connector_forces(self, spring_forces: np.ndarray, law_forces: np.ndarray, multipliers: np.ndarray) -> np.ndarray:
-        """(n_connectors, 3) from the vertical spring forces ``kv V u``, the law forces and the multipliers."""
-        forces = np.zeros(3 * self.n_connectors)
-        forces[self.spring_slots] = spring_forces
-        forces[self.law_slots] = law_forces
-        forces[self.tie_slots] = -np.asarray(multipliers)[self.tie_rows]  # lam: the tie's force on node j along e_k
-        return forces.reshape(-1, 3)
+        """(n_connectors, 3) from the vertical spring forces ``kv V u``, the law forces and the multipliers;
+        with instants as rows of each (``(k, ...)``), ``(k, n_connectors, 3)``."""
+        law_forces = np.asarray(law_forces)
+        forces = np.zeros(law_forces.shape[:-1] + (3 * self.n_connectors,))
+        forces[..., self.spring_slots] = spring_forces
+        forces[..., self.law_slots] = law_forces
+        forces[..., self.tie_slots] = -np.asarray(multipliers)[..., self.tie_rows]  # lam: the tie's force on node j along e_k
+        return forces.reshape(law_forces.shape[:-1] + (-1, 3))
 
     def support_reactions(self, multipliers: np.ndarray) -> np.ndarray:
         reactions = np.zeros(6 * self.n_supports)

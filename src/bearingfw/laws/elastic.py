@@ -23,6 +23,7 @@ class Frictionless:
 
     name: ClassVar[str] = "frictionless"
     rigid: ClassVar[bool] = False
+    linear: ClassVar[bool] = True  # F = 0: the kernel folds it (zero) into its matrix
     friction: ClassVar[bool] = True  # trivially: it never resists, in contact or not
     dims: int = dims_parameter()
 
@@ -55,6 +56,7 @@ class LinearSpring:
 
     name: ClassVar[str] = "linear-spring"
     rigid: ClassVar[bool] = False
+    linear: ClassVar[bool] = True  # F = k u: the kernel folds k into its matrix
     per_bearing: ClassVar[bool] = True
     k: float = parameter(low=0.0, low_open=True, unit="N/m", doc="spring stiffness", typical=4e8, per_bearing=True)
     dims: int = dims_parameter()

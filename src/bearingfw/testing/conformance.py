@@ -56,6 +56,9 @@ normality                  ``friction`` laws with a ``force_bound``: the slip (`
                            (maximum dissipation; a non-associated slip direction fails)
 rate independence          laws that are not ``rate_dependent``: the same forces whatever ``dt``
                            (halved steps, the static preload's ``dt = 1``)
+linear                     ``linear`` laws: along any path, at any normal force and ``dt``, the
+                           tangent is the first call's, the force is ``F(0) + K u``, and the state
+                           comes back unchanged (the kernel folds ``K`` into its matrix)
 rate-independent limit     laws with ``rate_independent_limit()``: the copy with its rate
                            dependence switched off, driven with arbitrary velocities and time
                            steps, gives the forces of the equivalent rate-independent law
@@ -1006,6 +1009,33 @@ def check_rate_independent_limit(ctx: Context) -> None:
                            f"{expected[k, 0].tolist()}")  # fmt: skip
 
 
+def check_linear(ctx: Context) -> None:
+    """A ``linear`` law is affine in ``u`` with one constant tangent and a state that never changes."""
+    law, prop = ctx.law, "linear"
+    state0 = law.initial_state(1)
+    zero = _call(law, prop, state0, np.zeros((1, law.dims)), np.full(1, ctx.normal_force_range[1]), ctx.dt)
+    K = np.asarray(zero.tangent, dtype=float)
+    F0 = _force(ctx, prop, zero, 1)
+
+    @ctx.hypothesis(st.tuples(ctx.histories(1, contact=True), st.sampled_from([1.0, 0.5, 7.0])))
+    def prop_(example):
+        (path, normal, velocity), factor = example
+        state = state0
+        for k, u in enumerate(path):
+            response = _call(law, prop, state, u, normal[k], ctx.dt * factor, velocity=None if velocity is None else velocity[k])
+            tangent = np.asarray(response.tangent, dtype=float)
+            if not _close(tangent, K, 1e-12, 1e-12 * float(np.abs(K).max(initial=0.0))):
+                ctx.fail(prop, f"at step {k} the tangent is {tangent.tolist()}, not the constant {K.tolist()} a linear "
+                               "law must have (drop linear = True)")  # fmt: skip
+            expected = F0 + np.einsum("nij,nj->ni", K, u)
+            force = _force(ctx, prop, response, 1)
+            if not _close(force, expected, 1e-9, ctx.roundoff(path)):
+                ctx.fail(prop, f"at step {k} u = {u.tolist()} gives {force.tolist()}, not F(0) + K u = {expected.tolist()}")
+            if not _same(response.state, state0):
+                ctx.fail(prop, f"at step {k} the state changed to {response.state!r}; a linear law has a constant state")
+            state = response.state
+
+
 def applicable_checks(law: BearingLaw) -> list[Callable[[Context], None]]:
     """The properties that apply to ``law`` (by the flags it declares); a rigid law only has the protocol."""
     if getattr(law, "rigid", False):
@@ -1033,6 +1063,8 @@ def applicable_checks(law: BearingLaw) -> list[Callable[[Context], None]]:
             checks.append(check_normality)
     if hasattr(law, "rate_independent_limit"):
         checks.append(check_rate_independent_limit)
+    if law_flag(law, "linear"):
+        checks.append(check_linear)
     return checks
 
 

@@ -164,6 +164,9 @@ class MetricFamily:
     a cell only when the structure records it. ``reduce(response)``: a :class:`CellResponse` ->
     ``{item: Peak}`` for every item of the family. ``note``: what the report says of its
     definition (empty: nothing beyond ``description``). ``table``: shown in the default table.
+    ``items``: the family's items when they are its own (e.g. the directions x, y, z of a ground
+    motion), not those of the response it reads (None: the elements, connectors or directions of
+    :data:`READS`); what ``[output] table`` may name.
     """
 
     name: str
@@ -173,6 +176,7 @@ class MetricFamily:
     reduce: Callable[[CellResponse], dict[str, Peak]] = attrs.field(repr=False)
     note: str = ""
     table: bool = True
+    items: tuple[str, ...] | None = None
 
     @property
     def display(self) -> tuple[float, str]:
@@ -498,6 +502,7 @@ SUPPORT_FAMILIES = (
         "differential_displacement", "m",
         "peak differential ground displacement between two support groups in global x, y, z", BEARINGS,
         _differential_displacement,
+        items=DIRECTIONS,
         note=("the largest difference of two support groups' ground displacements over time and every pair of groups "
               "(the pair and time in cells.csv); measured in cells whose ground motion is given per support "
               "([records.<name>.spatial]) only"),

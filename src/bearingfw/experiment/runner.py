@@ -101,7 +101,8 @@ class Checked:
 def family_items(families: Mapping[str, MetricFamily], elements, nodes, connectors) -> dict[str, tuple[str, ...]]:
     """The items of each metric family on a structure recording ``elements``, ``nodes`` and ``connectors``."""
     by_reads = {SECTIONS: tuple(elements), BEARINGS: tuple(connectors), DECK: DIRECTIONS if nodes else ()}
-    return {name: by_reads[family.reads] for name, family in families.items()}
+    return {name: by_reads[family.reads] if family.items is None else tuple(family.items)
+            for name, family in families.items()}
 
 
 def _check_metric(key: str, metric: str, items: Mapping[str, tuple[str, ...]]) -> None:

@@ -62,7 +62,7 @@ import attrs
 import numpy as np
 import scipy.sparse as sp
 
-from bearingfw.analysis.static import _initial_blocks, factorize, initial_tangent
+from bearingfw.analysis.static import factorize, initial_tangent, initial_tangent_blocks
 from bearingfw.model import NodalLoad, System
 from bearingfw.parameters import ParameterError, choice, integer_parameter
 from bearingfw.protocol import LawResponse
@@ -332,7 +332,7 @@ def pseudo_static_influence(
     translation of each group, with the laws at their initial tangent (module docstring)."""
     S = _unit_support_displacements(system, groups)
     ops = system.connectors
-    blocks = _initial_blocks(system, normal_forces, 1.0) if ops.groups else []
+    blocks = initial_tangent_blocks(system, normal_forces, 1.0) if ops.groups else []
     K0 = initial_tangent(system, normal_forces)  # K_free + B_free^T Kt B_free, with the tangent checks
     # T^T K0_full S = T^T K S + B_free^T Kt (B S): S also moves the supported ends of the bearings
     KS = system.T.T @ (system.K @ S)

@@ -355,7 +355,7 @@ def initial_stiffness_error(
     explains it (then it is the structure's: a mechanism)."""
     if not system.connectors.groups:
         return None
-    return _stiffness_error(system, _initial_blocks(system, normal_forces, dt), failure=failure)
+    return _stiffness_error(system, initial_tangent_blocks(system, normal_forces, dt), failure=failure)
 
 
 def _factorize_with_laws(K, system: System, blocks, **options):
@@ -418,12 +418,12 @@ def initial_tangent(system: System, normal_forces: np.ndarray | None = None, dt:
     ops = system.connectors
     if not ops.groups:
         return system.K_free
-    blocks = _initial_blocks(system, normal_forces, dt)
+    blocks = initial_tangent_blocks(system, normal_forces, dt)
     check_law_tangents(system, blocks)
     return _assembled(system, blocks)
 
 
-def _initial_blocks(system: System, normal_forces: np.ndarray | None, dt: float) -> list[np.ndarray]:
+def initial_tangent_blocks(system: System, normal_forces: np.ndarray | None, dt: float) -> list[np.ndarray]:
     """The laws' initial tangents per group (:func:`initial_tangent`)."""
     ops = system.connectors
     N = np.zeros(ops.n_connectors) if normal_forces is None else np.asarray(normal_forces, dtype=float)
@@ -595,7 +595,7 @@ def _check_mechanism_with_laws(system: System, N_springs: np.ndarray, dt: float)
     """Raise the mechanism error if the structure with the laws' initial tangents is singular (or
     :class:`StiffnessRangeError` if a law's stiffness is why)."""
     if system.connectors.groups:
-        blocks = _initial_blocks(system, _per_connector(system, N_springs), dt)
+        blocks = initial_tangent_blocks(system, _per_connector(system, N_springs), dt)
         check_law_tangents(system, blocks)
         _factorize_with_laws(_assembled(system, blocks), system, blocks)
 

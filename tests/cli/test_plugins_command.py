@@ -45,8 +45,9 @@ def test_json_lists_each_laws_protocol_flags_and_per_bearing_parameters(capsys):
     laws = {law["name"]: law for law in json.loads(capsys.readouterr().out)["laws"]}
     assert laws["regularized-coulomb"]["flags"] == {
         "uses_velocity": False, "normal_coupling": True, "per_bearing": True, "friction": True, "rate_dependent": False,
+        "linear": False,
     }
-    assert laws["linear-spring"]["flags"]["per_bearing"] is True
+    assert laws["linear-spring"]["flags"]["per_bearing"] is True and laws["linear-spring"]["flags"]["linear"] is True
     assert laws["fixed"]["flags"] == dict.fromkeys(laws["fixed"]["flags"], False)
     k = next(p for p in laws["linear-spring"]["parameters"] if p["name"] == "k")
     assert (k["per_bearing"], k["unit"], k["range"]) == (True, "N/m", "k > 0")

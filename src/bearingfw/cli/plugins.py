@@ -14,6 +14,7 @@ FLAG_LABELS = {
     "per_bearing": "per-bearing",
     "friction": "friction",
     "rate_dependent": "rate-dependent",
+    "linear": "linear",
 }
 
 

@@ -679,3 +679,100 @@ def test_per_bearing_laws_pass_the_kit(dims):
 
     law = BoucWen(k=4e8, alpha=0.05, uy=1e-3, n=2.0, dims=dims)
     check_per_bearing(make_context(law, displacement_scale=law.uy / 4, max_examples=10, max_steps=8, shrink=False))
+
+
+# --- the prepared parameters (issue 16: the per-call work done once per law and count) ----------
+
+
+def _random_calls(law, m, rng, count=12):
+    """``count`` trial calls ``(state, u)`` of ``m`` connectors: committed states from a random
+    history, increments from 1e-3 to 30 uy, some components exactly still, reversals."""
+    uy = np.max(law.uy)
+    state, u, calls = law.initial_state(m), np.zeros((m, law.dims)), []
+    for _ in range(count):
+        u = u + rng.normal(size=(m, law.dims)) * uy * rng.uniform(0.3, 3.0, (m, 1))
+        state = law.respond(state, u, np.ones(m), 0.01).state
+        du = rng.normal(size=(m, law.dims)) * uy * 10.0 ** rng.uniform(-3.0, 1.5, (m, 1))
+        du[0, -1] = 0.0  # a component that does not move (the reference bridge has such bearings)
+        calls.append((state, u + du))
+    return calls
+
+
+@pytest.mark.parametrize("dims", [1, 2])
+@pytest.mark.parametrize(
+    "shape",
+    [{"beta": 0.5, "gamma": 0.5}, {"beta": 0.7, "gamma": 0.3}, {"A": 1.3, "beta": 0.6, "gamma": -0.2, "alpha": 0.1}],
+    ids=["beta=gamma (the preset)", "beta>gamma", "A, gamma<0, alpha"],
+)
+def test_n2_per_bearing_uy_is_each_connectors_scalar_law_bit_for_bit(dims, shape):
+    """The reference bridge's preset gives each bearing its own uy (all else shared). The
+    per-bearing law evaluates its prepared columns with the operations of the scalar law: each
+    connector's answer is, to the bit, that of a scalar law with its uy called for several
+    connectors (the vectorised closed form; one connector alone takes the Python-float one)."""
+    uy = np.array([6.2e-5, 2.2e-4, 1.5e-4, 9.2e-5, 2.1e-4])
+    params = {"k": 4e8, "alpha": 0.0, "n": 2.0, **shape}
+    law = BoucWen(uy=uy, dims=dims, **params)
+    for state, u in _random_calls(law, len(uy), np.random.default_rng(16 + dims)):
+        together = law.respond(state, u, np.ones(len(uy)), 0.01)
+        for i, uy_i in enumerate(uy):
+            scalar = BoucWen(uy=float(uy_i), dims=dims, **params)
+            rows = [i, i]  # two copies: the vectorised path
+            alone = scalar.respond({key: value[rows] for key, value in state.items()}, u[rows], np.ones(2), 0.01)
+            np.testing.assert_array_equal(together.force[i], alone.force[0])
+            np.testing.assert_array_equal(together.tangent[i], alone.tangent[0])
+            np.testing.assert_array_equal(together.state["z"][i], alone.state["z"][0])
+
+
+def test_a_call_with_another_connector_count_is_prepared_anew_and_checked():
+    """The prepared parameters are per connector count: a scalar law answers 1, 3 and again 1
+    connectors alike (the one-connector path stays the Python-float one), and a per-bearing law
+    that answered its own count still refuses another."""
+    law = BoucWen(k=4e8, alpha=0.05, uy=2e-4, n=2.0, dims=2)
+    state = {"z": np.array([[0.3, -0.2]]), "u": np.zeros((1, 2))}
+    u = np.array([[1e-4, 5e-5]])
+    first = law.respond(state, u, np.ones(1), 0.01)
+    tripled = {key: np.repeat(value, 3, axis=0) for key, value in state.items()}
+    three = law.respond(tripled, np.repeat(u, 3, axis=0), np.ones(3), 0.01)
+    again = law.respond(state, u, np.ones(1), 0.01)
+    np.testing.assert_array_equal(first.force, again.force)
+    np.testing.assert_array_equal(first.tangent, again.tangent)
+    np.testing.assert_allclose(three.force, np.repeat(first.force, 3, axis=0), rtol=1e-13)
+    array = BoucWen(k=4e8, alpha=0.05, uy=np.array([2e-4, 1e-3]), n=2.0, dims=1)
+    array.respond(array.initial_state(2), np.full((2, 1), 1e-4), np.ones(2), 0.01)
+    with pytest.raises(ParameterError, match=r"'uy' holds 2 per-bearing values but the law was called for 3"):
+        array.respond({"z": np.zeros((3, 1)), "u": np.zeros((3, 1))}, np.zeros((3, 1)), np.ones(3), 0.01)
+
+
+def test_prepared_parameters_are_forgotten_with_their_law():
+    """They are kept beside the law (a frozen attrs object holds only its fields), by its id while
+    it lives: a discarded law leaves nothing behind, and a new law at a reused id is prepared anew."""
+    import gc
+
+    from bearingfw_boucwen import law as module
+
+    law = BoucWen(k=4e8, alpha=0.05, uy=np.array([2e-4, 1e-3]), n=2.0, dims=1)
+    law.respond(law.initial_state(2), np.full((2, 1), 1e-4), np.ones(2), 0.01)
+    key = id(law)
+    assert key in module._PREPARED
+    del law
+    gc.collect()
+    assert key not in module._PREPARED
+
+
+@pytest.mark.parametrize("dims", [1, 2])
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf, 1e151])
+@pytest.mark.parametrize("where", [0, 2, 4])
+def test_a_non_finite_or_absurd_displacement_anywhere_is_answered_with_nan_for_its_connector(dims, bad, where):
+    """Whatever its position among the connectors (NaN compares false, so a min/max scan could
+    step over it), the connector gets NaN force, tangent and z; the others their usual answer."""
+    law = BoucWen(k=4e8, alpha=0.05, uy=np.array([1e-4, 2e-4, 3e-4, 4e-4, 5e-4]), n=2.0, dims=dims)
+    state, u = _random_calls(law, 5, np.random.default_rng(3), count=1)[0]
+    sound = law.respond(state, u, np.ones(5), 0.01)
+    u = u.copy()
+    u[where, -1] = bad
+    response = law.respond(state, u, np.ones(5), 0.01)
+    others = [i for i in range(5) if i != where]
+    assert np.isnan(response.force[where]).all() and np.isnan(response.tangent[where]).all()
+    assert np.isnan(response.state["z"][where]).all()
+    np.testing.assert_array_equal(response.force[others], sound.force[others])
+    np.testing.assert_array_equal(response.tangent[others], sound.tangent[others])

@@ -63,10 +63,17 @@ per call.
 
 Cost. The closed form of n = 2 is one evaluation for any increment (and a second or third
 after an event). Vectorised over connectors it is a few dozen numpy operations, whose cost is
-their per-call overhead on such small arrays; so one connector (a law object serving a single
-bearing) is evaluated with the same formulas in Python floats and complex numbers
-(``_riccati_1d_one``, ``_riccati_2d_one``): about 6 us (1-D) and 12 us (2-D) per call against 20
-and 60 us with numpy. The tests check that both agree to round-off.
+their per-call overhead on such small arrays (about a microsecond each): so the vectorised path
+does only what depends on the call (issue 16). Whatever depends on the parameters alone (the
+per-bearing columns, ``sqrt(b/A)``, ``z_max``, ``2 A``, ``A/uy``, the force's coefficients,
+which connectors take the closed form) is computed once per law and connector count
+(:meth:`BoucWen._prepared`, :class:`_Prepared`), with the very operations that used to be
+repeated at every call, so that the answers are the same to the bit; sums over the two
+components, the sign choice of the Park-Wen weights and the ``tanhc`` series take fewer numpy
+calls (the same arithmetic). One connector (a law object serving a single bearing) is evaluated
+with the same formulas in Python floats and complex numbers (``_riccati_1d_one``,
+``_riccati_2d_one``): about 6 us (1-D) and 12 us (2-D) per call. The tests check that both
+agree to round-off. ``benchmarks/law_cost.py`` (repository root) times every installed law.
 
 Per-bearing parameters (``per_bearing = True``). Every numeric parameter may be an array with one
 value per connector, as the kernel makes them when the bearings of one law differ (the
@@ -74,12 +81,15 @@ reference bridge's ``bouc-wen`` preset gives each its own ``uy``). A call then t
 parameters as ``(m, 1)`` columns (:class:`_Values`); connectors with ``n = 2`` go through the
 closed form and the others through the substeps, each group in one vectorised evaluation. With
 scalar parameters the arithmetic is the same as before, operation for operation (Python floats).
+Each connector of a per-bearing law answers, to the bit, as a scalar law with its values called
+for several connectors (tests).
 """
 
 from __future__ import annotations
 
 import cmath
 import math
+import weakref
 from typing import ClassVar
 
 import attrs
@@ -128,6 +138,114 @@ class _Values:
     @property
     def z_max(self):
         return (self.A / (self.beta + self.gamma)) ** (1.0 / self.n)
+
+
+def _uniform(value, target: float) -> bool:
+    """Whether a parameter (a float or a column) equals ``target`` for every connector."""
+    return value == target if isinstance(value, float) else bool(np.all(value == target))
+
+
+def _wide(value, m: int, dims: int) -> np.ndarray:
+    """``value`` (a float or an ``(m, 1)`` column) as a contiguous ``(m, dims)`` array.
+
+    Numpy's operations on such small arrays cost their call, and about three times more when an
+    operand is broadcast (a column against ``(m, 2)`` rows, or a scalar's stride-0 view) than when
+    all have one shape: so the parameters come in the shape of the arrays they meet.
+    """
+    return np.array(np.broadcast_to(value, (m, dims)))
+
+
+class _Closed:
+    """What the n = 2 closed form needs of the parameters alone, for the connectors of one call.
+
+    Computed once per law and connector count (:meth:`BoucWen._prepared`) with the very operations
+    the closed form used to repeat at every call, then stored as contiguous ``(m, dims)`` arrays
+    (:func:`_wide`; in 2-D every per-connector quantity of the closed form is kept in both
+    columns, so that no operation broadcasts), so the results are unchanged to the bit.
+    """
+
+    #: the numeric constants, views of one stacked array (so that :meth:`take` is one indexing)
+    NUMERIC = ("A", "beta", "gamma", "uy", "still", "s", "kappa", "z_max", "rate", "two_A", "A_uy", "bpg", "gmb")
+    __slots__ = (*NUMERIC, "stack", "unloading", "linear", "unit_z_max")
+
+    def __init__(self, p: _Values, m: int, dims: int, still: float):
+        A, beta, gamma, uy = p.A, p.beta, p.gamma, p.uy
+        # Unloading (zeta < 0) follows uy zeta' = A + b zeta^2, b = beta - gamma: tan for b > 0, linear for b = 0.
+        b = beta - gamma
+        if p.scalar:
+            linear = not b > 0
+            self.unloading = "linear" if linear else "tan"
+            s, kappa = (1.0, 1.0) if linear else (math.sqrt(b / A), math.sqrt(A * b))
+        else:
+            linear = b <= 0
+            self.unloading = "linear" if linear.all() else ("tan" if not linear.any() else "mixed")
+            s, kappa = np.sqrt(np.where(linear, 1.0, b / A)), np.sqrt(np.where(linear, 1.0, A * b))
+        z_max = _sqrt(A / (beta + gamma))
+        # z_max = 1 (A = beta + gamma, the preset's): multiplying and dividing by it are exact, so skipped.
+        self.unit_z_max = _uniform(z_max, 1.0)
+        values = {
+            "A": A, "beta": beta, "gamma": gamma, "uy": uy,
+            "still": still * uy,  # increments shorter than this leave z as it is (BoucWen.STILL)
+            "s": s, "kappa": kappa, "z_max": z_max, "rate": _sqrt(A * (beta + gamma)),
+            "two_A": 2.0 * A, "A_uy": A / uy,
+            # the Park-Wen weight's factor beta sgn + gamma for either sign (_coefficients)
+            "bpg": beta + gamma, "gmb": gamma - beta,
+        }  # fmt: skip
+        self.linear = _wide(linear, m, dims)
+        self._unpack(np.stack([_wide(values[name], m, dims) for name in _Closed.NUMERIC]))
+
+    def _unpack(self, stack: np.ndarray):
+        self.stack = stack
+        for name, value in zip(_Closed.NUMERIC, stack, strict=True):
+            setattr(self, name, value)  # a contiguous (m, dims) view
+
+    def take(self, rows) -> _Closed:
+        """The constants of the connectors ``rows`` (an index or mask array)."""
+        part = object.__new__(_Closed)
+        part.unloading, part.unit_z_max, part.linear = self.unloading, self.unit_z_max, self.linear[rows]
+        part._unpack(self.stack[:, rows])
+        return part
+
+
+class _Prepared:
+    """A law's parameters arranged for calls with ``m`` connectors, computed once (:meth:`BoucWen._prepared`).
+
+    ``closed``: which connectors have ``n = 2`` (all, none, or a mask), with the closed form's constants
+    of those; the force's coefficients as :meth:`BoucWen.respond` applies them, in the shapes of
+    the force and the tangent.
+    """
+
+    __slots__ = (
+        "values", "one", "all_closed", "none_closed", "closed_rows", "closed", "substepped", "hysteretic",
+        "hysteretic_matrix", "alpha_zero", "alpha_k", "alpha_k_matrix",
+    )
+
+    def __init__(self, p: _Values, m: int, dims: int, still: float):
+        self.values = p
+        n2 = np.full(m, p.n == 2.0) if p.scalar else p.n[:, 0] == 2.0
+        self.all_closed, self.none_closed = bool(np.all(n2)), not bool(np.any(n2))
+        # one connector with scalar parameters: the closed form in Python floats (BoucWen._exact_one)
+        self.one = p.scalar and self.all_closed and m == 1
+        self.closed_rows = None if (self.all_closed or self.none_closed) else n2
+        closed = p if self.all_closed else p.take(n2)
+        self.closed = None if self.none_closed else _Closed(closed, int(np.count_nonzero(n2)), dims, still)
+        self.substepped = None if self.none_closed or self.all_closed else p.take(~n2)
+        hysteretic = (1.0 - p.alpha) * p.k * p.uy
+        self.hysteretic = _wide(hysteretic, m, dims)
+        self.hysteretic_matrix = np.array(np.broadcast_to(p.matrix(hysteretic), (m, dims, dims)))
+        # alpha = 0 (the preset's): F = hysteretic z, the same numbers as 0 u + hysteretic z but for the sign of a zero.
+        self.alpha_zero = _uniform(p.alpha, 0.0)
+        self.alpha_k = _wide(p.alpha * p.k, m, dims)
+        self.alpha_k_matrix = np.array(np.broadcast_to(p.matrix(p.alpha * p.k) * np.eye(dims), (m, dims, dims)))
+
+
+#: Per law object (by id, while it lives): its :class:`_Prepared` per connector count.
+_PREPARED: dict[int, tuple[weakref.ref, dict[int, _Prepared]]] = {}
+
+
+def _forget(key: int):
+    """A weakref callback: the law with this id is gone, so is its entry."""
+    return lambda _ref: _PREPARED.pop(key, None)
 
 
 @attrs.frozen
@@ -237,7 +355,26 @@ class BoucWen:
             return _Values(*values)
         if count == 1:  # one connector: the scalar arithmetic, exactly as a law with these values
             return _Values(*(float(np.asarray(value).reshape(-1)[0]) for value in values))
-        return _Values(*(np.broadcast_to(np.asarray(value, dtype=float), (count,))[:, None] for value in values))
+        # Contiguous columns (a copy, not a broadcast view): numpy's fast loop needs them, several
+        # times cheaper on so small arrays than the strided one a broadcast scalar would take.
+        columns = (np.array(np.broadcast_to(np.asarray(value, dtype=float), (count,))) for value in values)
+        return _Values(*(column.reshape(count, 1) for column in columns))
+
+    def _prepared(self, count: int) -> _Prepared:
+        """The parameters arranged for a call with ``count`` connectors, built (and the per-bearing
+        lengths checked) at the first call with that count, then reused: they depend only on the
+        law, which is immutable, and on ``count``. Kept beside the law, as a frozen attrs object
+        holds only its fields."""
+        entry = _PREPARED.get(id(self))
+        if entry is None or entry[0]() is not self:
+            entry = (weakref.ref(self, _forget(id(self))), {})
+            _PREPARED[id(self)] = entry
+        prepared = entry[1].get(count)
+        if prepared is None:
+            check_per_bearing(self, count)
+            prepared = _Prepared(self._values(count), count, self.dims, self.STILL)
+            entry[1][count] = prepared
+        return prepared
 
     def initial_state(self, n: int) -> dict:
         check_per_bearing(self, n)
@@ -249,18 +386,17 @@ class BoucWen:
         The hysteretic spring has initial stiffness ``(1 - alpha) k A`` and force
         ``(1 - alpha) k uy z``, so its elastic deformation is ``uy z / A``.
         """
-        p = self._values(len(state["u"]))
+        p = self._prepared(len(state["u"])).values
         return state["u"] - p.uy * state["z"] / p.A
 
     def respond(self, state, u, normal_force, dt) -> bearingfw.LawResponse:
         # The shapes checked naming the law (numpy would broadcast a wrong one); then a copy: the state
         # must not alias the caller's array.
         u = np.array(respond_inputs(self, u, normal_force)[0])
-        check_per_bearing(self, len(u))
-        # Two reductions, no copy, find a NaN, an infinity or an absurd displacement (comparisons with NaN fail).
-        if u.size and not (-self.MAX_DISPLACEMENT <= u.min() and u.max() <= self.MAX_DISPLACEMENT):
+        prepared = self._prepared(len(u))  # checks the per-bearing lengths at a new count
+        if not _within(u, self.MAX_DISPLACEMENT):
             return self._non_finite(state, u, normal_force, dt)
-        p = self._values(len(u))
+        p = prepared.values
         du = u - state["u"]
         z = state["z"]
         # The signs of the increment's components, for the derivative of |du_i|: those of du, and
@@ -268,37 +404,34 @@ class BoucWen:
         # stiffer one, like an elastic predictor, and the one the friction law takes there too.
         # In the substep scheme they are the signs of every substep's delta (so that the tangent
         # is the derivative in the direction of motion even where a substep is empty).
-        if p.scalar and p.n == 2.0 and len(du) == 1:
+        if prepared.one:
             # One connector: the closed form in Python floats, as numpy's per-operation overhead
             # would dominate.
             z, dz_du = self._exact_one(p, z, du)
         else:
-            direction = np.sign(du)
-            # The common case: every component moves by more than STILL uy (else sorted out below).
-            moving = bool(np.all(np.abs(du) > self.STILL * p.uy))
-            if not moving:
-                direction = np.where(du != 0, direction, -np.sign(z))
-            if p.scalar:
-                if p.n == 2.0:
-                    z, dz_du = self._exact(p, z, du, direction, moving)
-                else:
-                    z, dz_du = self._substepped(p, z, du, direction)
+            if self.dims == 1:
+                direction = np.sign(du)
+                if not _all(direction):  # a connector that does not move (typically a whole static call)
+                    direction = np.where(du != 0, direction, -np.sign(z))
+            else:  # a component often stays (a bearing moving along an axis): no test first
+                direction = np.sign(np.where(du != 0, du, -z))
+            if prepared.all_closed:
+                z, dz_du = self._exact(prepared.closed, z, du, direction)
+            elif prepared.none_closed:
+                z, dz_du = self._substepped(p, z, du, direction)
             else:  # per connector: n = 2 in closed form, the others by substeps
-                closed = p.n[:, 0] == 2.0
+                closed = prepared.closed_rows
                 z, dz_du = z.copy(), np.empty(z.shape + (self.dims,))
-                if closed.any():
-                    q = p.take(closed)
-                    all_moving = bool(np.all(np.abs(du[closed]) > self.STILL * q.uy))
-                    z[closed], dz_du[closed] = self._exact(q, state["z"][closed], du[closed], direction[closed], all_moving)
-                if not closed.all():
-                    q = p.take(~closed)
-                    z[~closed], dz_du[~closed] = self._substepped(q, state["z"][~closed], du[~closed], direction[~closed])
-        hysteretic = (1.0 - p.alpha) * p.k * p.uy
-        if p.scalar and p.alpha == 0.0:
-            force, tangent = hysteretic * z, hysteretic * dz_du
+                z0 = state["z"]
+                z[closed], dz_du[closed] = self._exact(prepared.closed, z0[closed], du[closed], direction[closed])
+                z[~closed], dz_du[~closed] = self._substepped(
+                    prepared.substepped, z0[~closed], du[~closed], direction[~closed]
+                )
+        if prepared.alpha_zero:
+            force, tangent = prepared.hysteretic * z, prepared.hysteretic_matrix * dz_du
         else:
-            force = p.alpha * p.k * u + hysteretic * z
-            tangent = p.matrix(p.alpha * p.k) * np.eye(self.dims) + p.matrix(hysteretic) * dz_du
+            force = prepared.alpha_k * u + prepared.hysteretic * z
+            tangent = prepared.alpha_k_matrix + prepared.hysteretic_matrix * dz_du
         # An increment with nothing to do hands z0 back: never share an array with the old state.
         z = z.copy() if z is state["z"] else z
         return bearingfw.LawResponse(force, tangent, {"z": z, "u": u})
@@ -344,26 +477,33 @@ class BoucWen:
             dz_du = _solve(newton_matrix, dz_du + self._flow_delta_derivative(p, z, direction) @ d_delta)
         return z, dz_du
 
-    def _exact(self, p: _Values, z0, du, direction, moving):
+    def _exact(self, k: _Closed, z0, du, direction):
         """``z`` at the end of ``du`` and ``dz/du`` for ``n = 2``, in closed form (module docstring).
 
-        ``moving``: True if every component of ``du`` exceeds ``STILL uy``. Connectors that move by
-        less than that (in length) keep ``z0``, with the derivative ``dPhi/ddelta / uy`` of the flow
-        at ``z0`` in the direction of ``direction``: the limit of the moving case, from which they
-        differ by about ``STILL`` relative (and the complex step would underflow below it).
+        Connectors that move by less than ``STILL uy`` (in length) keep ``z0``, with the derivative
+        ``dPhi/ddelta / uy`` of the flow at ``z0`` in the direction of ``direction``: the limit of the
+        moving case, from which they differ by about ``STILL`` relative (and the complex step would
+        underflow below it).
         """
-        integrate = _riccati_1d if self.dims == 1 else _riccati_2d
-        if moving:
-            return integrate(z0, du, direction, p.A, p.beta, p.gamma, p.uy)
-        still = self.STILL * p.uy
-        moving = _norm(du)[:, 0] > (still if p.scalar else still[:, 0])
+        if self.dims == 1:
+            length = np.abs(du)
+            if _all(length > k.still):  # the common case: every connector moves
+                return _riccati_1d(z0, length, direction, k)
+        else:  # |du| in both columns (hypot is symmetric): the closed form's shape (_Closed)
+            length = np.hypot(du, du[:, ::-1])
+            if _all(length > k.still):
+                return _riccati_2d(z0, du, length, direction, k)
+        moving = (length > k.still)[:, 0]
         # dPhi/ddelta / uy at z0 = (A I - z0 (beta |z0| direction + gamma z0)^T) / uy for n = 2
-        slope = (p.beta * np.abs(z0) * direction + p.gamma * z0) / -p.uy
-        z, dz_du = z0, z0[:, :, None] * slope[:, None, :] + p.matrix(p.A / p.uy) * np.eye(self.dims)
+        slope = (k.beta * np.abs(z0) * direction + k.gamma * z0) / -k.uy
+        z, dz_du = z0, z0[:, :, None] * slope[:, None, :] + k.A_uy[:, :1, None] * np.eye(self.dims)
         if moving.any():  # else nothing moves (the first evaluation of a time step, typically)
             z = z0.copy()
-            q = p.take(moving)
-            z[moving], dz_du[moving] = integrate(z0[moving], du[moving], direction[moving], q.A, q.beta, q.gamma, q.uy)
+            part, z0, length, direction = k.take(moving), z0[moving], length[moving], direction[moving]
+            if self.dims == 1:
+                z[moving], dz_du[moving] = _riccati_1d(z0, length, direction, part)
+            else:
+                z[moving], dz_du[moving] = _riccati_2d(z0, du[moving], length, direction, part)
         return z, dz_du
 
     def _substeps(self, p: _Values, du):
@@ -485,48 +625,48 @@ class BoucWen:
         return (p.matrix(p.A) * np.eye(self.dims) - dw_ddelta) / p.matrix(p.uy)
 
 
-def _riccati_1d(z0, du, direction, A, beta, gamma, uy):
+def _riccati_1d(z0, length, direction, k: _Closed):
     """1-D: ``zeta = sgn(du) z`` only grows, by ``uy zeta' = A - (beta |zeta| + gamma zeta) zeta``.
 
     Below zero (unloading) ``uy zeta' = A + b zeta^2`` (``b = beta - gamma >= 0``): with
     ``s = sqrt(b/A)``, ``kappa = sqrt(A b)``, ``zeta = tan(atan(s zeta0) + kappa t)/s`` up to
     ``zeta = 0`` (``zeta0 + A t`` if ``b = 0``). Above (loading) ``uy zeta' = A - a zeta^2``
     (``a = beta + gamma``), ``zeta = z_max tanh(atanh(zeta0/z_max) + k t)``, ``k = sqrt(A a)``,
-    by the addition theorem. ``t`` is the distance in units of ``uy``. The tangent of an exact
-    1-D integration is the right-hand side at the end point: ``dz/du = F(z1)/uy``.
+    by the addition theorem. ``t`` is the distance in units of ``uy`` (``length = |du|``). The
+    tangent of an exact 1-D integration is the right-hand side at the end point: ``dz/du = F(z1)/uy``.
     """
+    A = k.A
     zeta = direction * z0
-    t = np.abs(du) / uy
+    t = length / k.uy
     unloading = zeta < 0
     if unloading.any():
-        b = beta - gamma
-        if isinstance(b, np.ndarray):  # per-bearing parameters: both cases, chosen per connector
-            linear = b <= 0
-            s, kappa = np.sqrt(np.where(linear, 1.0, b / A)), np.sqrt(np.where(linear, 1.0, A * b))
+        if k.unloading == "tan":
+            angle = np.arctan(k.s * zeta) + k.kappa * t  # zeta reaches 0 where the angle does
+            zeta = np.where(unloading, np.tan(np.minimum(angle, 0.0)) / k.s, zeta)
+            t = np.where(unloading, np.maximum(angle, 0.0) / k.kappa, t)
+        elif k.unloading == "linear":
+            left = zeta + A * t  # the distance left after zeta reaches 0, times A
+            zeta = np.where(unloading, np.minimum(left, 0.0), zeta)
+            t = np.where(unloading, np.maximum(left, 0.0) / A, t)
+        else:  # per-bearing parameters with both cases: each chosen per connector
+            linear, s, kappa = k.linear, k.s, k.kappa
             angle = np.arctan(s * zeta) + kappa * t
             left = zeta + A * t
             zeta_end = np.where(linear, np.minimum(left, 0.0), np.tan(np.minimum(angle, 0.0)) / s)
             t_left = np.where(linear, np.maximum(left, 0.0) / A, np.maximum(angle, 0.0) / kappa)
             zeta, t = np.where(unloading, zeta_end, zeta), np.where(unloading, t_left, t)
-        elif b > 0:
-            s, kappa = math.sqrt(b / A), math.sqrt(A * b)
-            angle = np.arctan(s * zeta) + kappa * t  # zeta reaches 0 where the angle does
-            zeta = np.where(unloading, np.tan(np.minimum(angle, 0.0)) / s, zeta)
-            t = np.where(unloading, np.maximum(angle, 0.0) / kappa, t)
-        else:
-            left = zeta + A * t  # the distance left after zeta reaches 0, times A
-            zeta = np.where(unloading, np.minimum(left, 0.0), zeta)
-            t = np.where(unloading, np.maximum(left, 0.0) / A, t)
-    z_max = _sqrt(A / (beta + gamma))
-    rise = np.tanh(_sqrt(A * (beta + gamma)) * t)
-    zeta = (zeta + z_max * rise) / (1.0 + rise * zeta / z_max)
+    rise = np.tanh(k.rate * t)
+    if k.unit_z_max:
+        zeta = (zeta + rise) / (1.0 + rise * zeta)
+    else:
+        zeta = (zeta + k.z_max * rise) / (1.0 + rise * zeta / k.z_max)
     # F(z1) / uy, with z1 = direction zeta1: (A - |zeta| (beta zeta + gamma |zeta|)) / uy
     abs_zeta = np.abs(zeta)
-    slope = (A - abs_zeta * (beta * zeta + gamma * abs_zeta)) / uy
+    slope = (A - abs_zeta * (k.beta * zeta + k.gamma * abs_zeta)) / k.uy
     return direction * zeta, slope[:, :, None]
 
 
-def _riccati_2d(z0, du, direction, A, beta, gamma, uy):
+def _riccati_2d(z0, du, length, direction, k: _Closed):
     """2-D: segments of fixed signs of ``z``; the transverse derivative by a complex step.
 
     ``dz/du = dz/dL e^T + dz/de (I - e e^T)/L`` with ``I - e e^T = p p^T`` (``p`` the unit normal
@@ -536,66 +676,67 @@ def _riccati_2d(z0, du, direction, A, beta, gamma, uy):
     analytic in ``e`` for fixed signs (with :func:`_tanhc`'s series near 0, and ``h t^2`` kept
     small, so that every imaginary part stays a perturbation). The segments' lengths are real and fixed: an event's
     position does not enter the derivative (``F`` is continuous where a component of ``z``
-    changes sign, so moving the event changes nothing to first order).
+    changes sign, so moving the event changes nothing to first order). ``length = |du|``.
     """
-    length = np.hypot(du[:, :1], du[:, 1:])
     e = du / length
     p = e[:, ::-1] * _ROTATE
-    t = length / uy  # the increment's length in units of uy
-    h = _STEP / np.maximum(1.0, t * t)  # Im(c t^2) stays at most about |_STEP|, whatever t
+    t = length / k.uy  # the increment's length in units of uy
+    tt = t * t
+    h = _STEP / np.maximum(1.0, tt)  # Im(c t^2) stays at most about |_STEP|, whatever t
     e_step = e + h * p
-    w, q, c = _coefficients(z0, e_step, direction, A, beta, gamma)
-    z, crossed = _segment(z0, e, e_step, q, c, t, A)
+    w, q, c = _coefficients(z0, e_step, direction, k)
+    z, crossed = _segment(z0, e_step, q, c, t, tt, k.two_A)
     if crossed is not None:  # rare: a component of z changes sign within the increment
         z, w = z.copy(), w.copy()
         za, t_left, q, c = z0[crossed], t[crossed], q[crossed], c[crossed]
-        A_c, beta_c, gamma_c = (_rows(value, crossed) for value in (A, beta, gamma))
+        part = k.take(crossed)
         for _ in range(2):  # each component crosses at most once
             e_c, e_step_c, direction_c = e[crossed], e_step[crossed], direction[crossed]
-            first, t_first = _first_crossing(za.real, e_c, q.real, c.real, t_left, A_c)
-            za = _segment(za, e_c, e_step_c, q, c, t_first, A_c, check=False)[0]
+            first, t_first = _first_crossing(za.real, e_c, q.real, c.real, t_left, part.A)
+            za = _segment(za, e_step_c, q, c, t_first, t_first * t_first, part.two_A, check=False)[0]
             hit = np.flatnonzero(first >= 0)
             za.real[hit, first[hit]] = 0.0  # exactly on the switching line
             t_left = t_left - t_first
-            w_c, q, c = _coefficients(za, e_step_c, direction_c, A_c, beta_c, gamma_c)
-            z_c, again = _segment(za, e_c, e_step_c, q, c, t_left, A_c)
+            w_c, q, c = _coefficients(za, e_step_c, direction_c, part)
+            z_c, again = _segment(za, e_step_c, q, c, t_left, t_left * t_left, part.two_A)
             z[crossed], w[crossed] = z_c, w_c
             if again is None:
                 break
             crossed, za, t_left, q, c = crossed[again], za[again], t_left[again], q[again], c[again]
-            A_c, beta_c, gamma_c = (_rows(value, again) for value in (A_c, beta_c, gamma_c))
+            part = part.take(again)
     z_end = z.real
     # F(z1)/uy = (A e - (w . z1) z1)/uy, with the last segment's signs (F is continuous across them).
-    along = (A / uy) * e - (w.real * z_end).sum(axis=1, keepdims=True) * (z_end / uy)
+    along = k.A_uy * e - _row_sums(w.real * z_end) * (z_end / k.uy)
     across = z.imag / (h.imag * length)
     return z_end, along[:, :, None] * e[:, None, :] + across[:, :, None] * p[:, None, :]
 
 
-def _segment(za, e, e_step, q, c, t, A, check=True):
-    """The closed form over ``t`` (in units of uy) from ``za`` with coefficients ``q``, ``c``: ``(z, crossed)``.
+def _segment(za, e_step, q, c, t, tt, two_A, check=True):
+    """The closed form over ``t`` (in units of uy; ``tt = t^2``) from ``za`` with coefficients ``q``, ``c``
+    (``two_A = 2 A``): ``(z, crossed)``.
 
     ``crossed``: indices of the connectors along which a component of ``z`` would change sign
     (then ``z`` is not their end state), or None. Without a crossing ``f`` is increasing on the
     segment, so a component keeps its sign if it has it at the end, where ``1 + 2 q v + c v^2 > 0``
     (concave in ``v`` if ``c < 0``, so positive all along) and ``v`` is on its first branch.
     """
-    y = c * (t * t / 4.0)
+    y = c * (tt / 4.0)
     v = 0.5 * t * _tanhc(y)
     qv, cv2 = q * v, c * v * v
     denominator = 1.0 + 2.0 * qv + cv2
-    z = (za * (1.0 - cv2) + (2.0 * A) * (v + qv * v) * e_step) / denominator
+    z = (za * (1.0 - cv2) + two_A * (v + qv * v) * e_step) / denominator
     crossed = None
     if check:
         # One reduction for the common case: a sign flipped, 1 + 2 q v + c v^2 < 0, or the angle
         # of a c < 0 segment past pi (y < -pi^2/4, v past its first branch).
         real = za.real
-        flags = np.minimum(real * z.real, np.minimum(denominator.real, y.real + np.pi**2 / 4))
-        if flags.min(initial=0.0) < 0:
+        flags = np.minimum(real * z.real, np.minimum(denominator.real, y.real + _PI2_4))
+        if np.minimum.reduce(flags, axis=None, initial=0.0) < 0:
             crossed = np.flatnonzero((flags < 0).any(axis=1))
     return z, crossed
 
 
-def _coefficients(za, e, direction, A, beta, gamma):
+def _coefficients(za, e, direction, k: _Closed):
     """``w``, ``q = w . za`` and ``c = A w . e`` of the segment starting at ``za`` (module docstring).
 
     ``w_i = beta |e_i| sgn(z_i) + gamma e_i = (beta sgn(z_i) direction_i + gamma) e_i`` (``|e_i| =
@@ -603,8 +744,12 @@ def _coefficients(za, e, direction, A, beta, gamma):
     (the sign ``z_i`` takes at once), i.e. ``sgn(z_i) direction_i = sgn(za_i direction_i + tiny)``
     (where also ``direction_i = 0``, ``e_i = 0`` and the factor multiplies nothing).
     """
-    w = (beta * np.sign(za.real * direction + _TINY) + gamma) * e
-    return w, (w * za).sum(axis=1, keepdims=True), A * (w * e).sum(axis=1, keepdims=True)
+    # beta sgn + gamma is beta + gamma or gamma - beta: one choice instead of sign, product and sum.
+    # sgn(x + tiny) > 0 exactly where x > -tiny (rounding never changes the sign of a sum); it is
+    # 0 only at x = -tiny, a product of no displacement.
+    factor = np.where(za.real * direction > -_TINY, k.bpg, k.gmb)
+    w = factor * e
+    return w, _row_sums(w * za), k.A * _row_sums(w * e)
 
 
 def _first_crossing(z, e, q, c, t, A):
@@ -632,14 +777,34 @@ def _first_crossing(z, e, q, c, t, A):
     return np.where(np.isfinite(t_first[:, 0]), first, -1), np.minimum(t_first, t)
 
 
+def _row_sums(v):
+    """The sums ``v_0 + v_1`` of ``(n, 2)`` rows, in both columns (``v_1 + v_0`` is the same number):
+    ``v.sum(axis=1)``'s own sum, in the shape of the closed form's arrays (:class:`_Closed`)."""
+    return v + v[:, ::-1]
+
+
+def _all(flags) -> bool:
+    """``flags.all()`` without the method's Python wrapper."""
+    return bool(np.logical_and.reduce(flags, axis=None))
+
+
 def _sqrt(x):
     """``math.sqrt`` for a float (a scalar law's arithmetic, unchanged), ``np.sqrt`` for per-bearing columns."""
     return math.sqrt(x) if isinstance(x, float) else np.sqrt(x)
 
 
-def _rows(value, rows):
-    """A parameter for some connectors: a float as it is, a per-bearing column at ``rows``."""
-    return value[rows] if isinstance(value, np.ndarray) else value
+def _within(u, bound: float) -> bool:
+    """Whether every displacement is a number within ``[-bound, bound]`` (NaN fails every comparison).
+
+    A few values are compared as Python floats: two numpy reductions cost more on so small arrays.
+    """
+    if u.size <= 16:
+        values = u.ravel().tolist()
+        if not values:
+            return True
+        total = sum(values)  # NaN or infinite if a value is (or if they overflow: absurd too)
+        return total - total == 0.0 and -bound <= min(values) and max(values) <= bound
+    return bool(-bound <= u.min() and u.max() <= bound)
 
 
 _ROTATE = np.array([-1.0, 1.0])  # (e_y, e_x) * _ROTATE: e turned by +90 degrees
@@ -657,15 +822,21 @@ def _tanhc(y):
     than the complex step's ``h`` when ``Re y`` is about 0 (``c = 0``), where the series, a
     polynomial, keeps it exact. ``y = 0`` (``c = 0``: no sign-dependent term) gives 1.
     """
-    small = np.abs(y) < 1e-2
-    if not small.any():
+    size = np.abs(y)
+    # (NaN fails both tests below: then the mixture, as for any y)
+    all_small = np.maximum.reduce(size, axis=None, initial=0.0) < 1e-2
+    if not all_small and np.minimum.reduce(size, axis=None, initial=np.inf) >= 1e-2:
         r = np.sqrt(y)
         return np.tanh(r) / r
-    series = _TANHC_SERIES[-1]
-    for coefficient in _TANHC_SERIES[-2::-1]:
-        series = series * y + coefficient
-    if small.all():
+    # Horner's scheme, in place (the same operations as series = series * y + coefficient).
+    series = _TANHC_SERIES[-1] * y
+    series += _TANHC_SERIES[-2]
+    for coefficient in _TANHC_SERIES[-3::-1]:
+        series *= y
+        series += coefficient
+    if all_small:
         return series
+    small = size < 1e-2
     r = np.sqrt(np.where(small, 1.0, y))
     return np.where(small, series, np.tanh(r) / r)
 

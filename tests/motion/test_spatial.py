@@ -8,8 +8,10 @@ from pathlib import Path
 import attrs
 import numpy as np
 import pytest
+from scipy import signal
 
 from bearingfw.motion import read_record, response_spectrum
+from bearingfw.motion import spatial
 from bearingfw.motion.spatial import SpatialVariation, coherency, delayed, delays, spatial_motions
 from bearingfw.parameters import ParameterError
 
@@ -72,7 +74,10 @@ def test_simulated_coherency_matches_the_model_over_seeds(manjil, model):
     hundreds of frequencies of each band the random error is small, so the tolerance is 0.05 plus
     that bias: tight enough to catch a wrong factorisation (none: 0, full: 1)."""
     a, dt = manjil
-    var = SpatialVariation(coherency=model, amplitude_iterations=0, wavelet_iterations=0)
+    _check_coherency(a, dt, SpatialVariation(coherency=model, amplitude_iterations=0, wavelet_iterations=0))
+
+
+def _check_coherency(a, dt, var):
     n = 8192
     f = np.fft.rfftfreq(n, dt)
     s11 = s22 = s12 = 0.0
@@ -96,34 +101,102 @@ def _spectrum_misfit(a, dt, out, names, frequencies):
                       for c in range(a.shape[1])] for n in names])
 
 
-@pytest.mark.slow  # the wavelet passes take tens of seconds per realisation
+def test_the_oscillator_bank_is_the_response_spectrum(manjil):
+    """The generator's batched frequency-domain oscillators (spatial._Oscillators) give what response_spectrum
+    gives, sub-steps included (at dt = 0.02 s: one sub-step below 5 Hz, two to 10 Hz, three and four above),
+    to single precision; a signal shorter than the FFT and a peak taken over its first samples only."""
+    a, dt = manjil
+    frequencies = np.geomspace(0.3, 20.0, 37)
+    bank = spatial._Oscillators(frequencies, dt, 8192)
+    assert set(bank.substeps) == {1, 2, 3, 4}
+    ours = bank.psa(a.T, a.shape[0])
+    theirs = np.array([response_spectrum(a[:, c], dt, 1.0 / frequencies).psa for c in range(3)])
+    assert np.max(np.abs(ours / theirs - 1.0)) < 1e-4
+    early = bank.psa(a[:, :1].T, 600)[0]  # the peak over the first 12 s
+    assert np.max(np.abs(early / response_spectrum(a[:600, 0], dt, 1.0 / frequencies).psa - 1.0)) < 1e-4
+
+
+def test_the_wavelet_response_closed_form_is_the_integrated_response():
+    """spatial._wavelet_response (complex error functions) against the exact recursion on a fine step, for an
+    oscillator at, below and above the wavelet's frequency, before, during and long after the wavelet."""
+    from bearingfw.motion.metrics import _oscillator_filters
+
+    h = 5e-4
+    for f, f_wavelet, width in [(2.0, 2.0, 3.0), (2.0, 2.3, 3.0), (8.0, 7.0, 0.75), (0.5, 0.5, 12.0)]:
+        omega, centre = 2 * np.pi * f, 6.0 * width  # the wavelet is nil at t = 0, where the recursion starts
+        t = np.arange(int((centre + 30.0) / h)) * h
+        w = np.cos(2 * np.pi * f_wavelet * (t - centre)) * np.exp(-0.5 * ((t - centre) / width) ** 2)
+        b, den = _oscillator_filters(np.array([omega]), 0.05, np.array([h]))
+        direct = omega**2 * signal.lfilter(b[0], den[0], -w)
+        closed = spatial._wavelet_response(omega, t, 2 * np.pi * f_wavelet, centre, width)
+        assert np.max(np.abs(closed - direct)) < 1e-3 * np.max(np.abs(direct)), (f, f_wavelet)
+
+
+def test_matched_generation_is_reproducible(manjil):
+    a, dt = manjil
+    pos = {"A": (0.0, 0.0), "B": (80.0, 0.0)}
+    var = SpatialVariation(apparent_velocity=700.0, coherency="luco-wong", seed=4)
+    first, again = spatial_motions(a[:, :1], dt, pos, var), spatial_motions(a[:, :1], dt, pos, var)
+    assert np.array_equal(first["B"], again["B"])
+
+
 def test_support_spectra_stay_near_the_record(manjil):
     """One realisation, two supports, after the ratio and wavelet passes (module docstring): mean and 95th
-    percentile of the misfit over 0.5-10 Hz. Measured: mean about 2 %, 95th percentile about 5 %."""
+    percentile of the misfit over 0.5-10 Hz, and how far the passes moved it. Measured: mean 1.4 %, 95th
+    percentile 3.1 %, largest 4.6 %; without the passes: mean 15 %, largest 49 % (with the ratio passes
+    only: 4.7 % and 27 %)."""
     a, dt = manjil
-    out = spatial_motions(a, dt, {"A": (0.0, 0.0), "D": (160.0, 0.0)},
-                          SpatialVariation(apparent_velocity=600.0, coherency="harichandran-vanmarcke", seed=1))
-    devs = _spectrum_misfit(a, dt, out, "D", np.geomspace(0.5, 10.0, 100))
-    assert devs.mean() < 0.03
-    assert np.percentile(devs, 95) < 0.07
+    pos = {"A": (0.0, 0.0), "D": (160.0, 0.0)}
+    var = SpatialVariation(apparent_velocity=600.0, coherency="harichandran-vanmarcke", seed=1)
+    frequencies = np.geomspace(0.5, 10.0, 100)
+    devs = _spectrum_misfit(a, dt, spatial_motions(a, dt, pos, var), "D", frequencies)
+    raw = _spectrum_misfit(a, dt, spatial_motions(a, dt, pos, attrs.evolve(var, amplitude_iterations=0,
+                                                                             wavelet_iterations=0)), "D", frequencies)
+    assert devs.mean() < 0.025
+    assert np.percentile(devs, 95) < 0.05
+    assert devs.max() < 0.08
+    assert raw.max() > 0.2  # the test sees what the passes do
 
 
-@pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="known shortfall: the largest misfit of one realisation is 8.5-11.9 % "
-                   "(Harichandran-Vanmarcke seed 0: 11.9 %, Luco-Wong seed 2: 10.3 %), above the 10 % asked")
+def _worst_misfit(a, dt, model, seeds):
+    pos = {"A": (0.0, 0.0), "B": (40.0, 0.0), "C": (100.0, 0.0), "D": (160.0, 0.0)}
+    worst = {}
+    for seed in seeds:
+        out = spatial_motions(a, dt, pos, SpatialVariation(apparent_velocity=600.0, coherency=model, seed=seed))
+        worst[seed] = float(_spectrum_misfit(a, dt, out, "BCD", np.geomspace(0.5, 10.0, 100)).max())
+    return worst
+
+
+def test_every_support_spectrum_is_within_ten_percent_of_the_record(manjil):
+    """The issue's criterion on one realisation (the full one over seeds and models is the slow test below):
+    each of three generated supports' 5 %-damped spectra within 10 % of the record's at every one of 100
+    frequencies over 0.5-10 Hz, every component. Measured: 5.2 %."""
+    a, dt = manjil
+    worst = _worst_misfit(a, dt, "harichandran-vanmarcke", [2])
+    assert max(worst.values()) <= 0.10, worst
+
+
+@pytest.mark.slow  # three realisations per model, about 15 s
 @pytest.mark.parametrize("model", ["harichandran-vanmarcke", "luco-wong"])
 def test_every_support_spectrum_is_within_ten_percent_of_the_record_over_seeds(manjil, model):
     """The issue's criterion: each support's 5 %-damped spectrum within 10 % of the record's at every one of 100
-    frequencies over 0.5-10 Hz, every component, three supports, three seeds. Measured (validation of this
-    change): largest misfit 8.5-11.9 % per realisation, so this test FAILS for some seeds: the criterion is not
-    met yet (the report of this change says so)."""
+    frequencies over 0.5-10 Hz, every component, three supports, three seeds. Measured: largest misfit 5.2-6.0 %
+    per realisation (seeds 0-9, both models: at most 7.1 %, and 7.8 % on a grid of 1000 frequencies)."""
     a, dt = manjil
-    pos = {"A": (0.0, 0.0), "B": (40.0, 0.0), "C": (100.0, 0.0), "D": (160.0, 0.0)}
-    worst = {}
-    for seed in range(3):
-        out = spatial_motions(a, dt, pos, SpatialVariation(apparent_velocity=600.0, coherency=model, seed=seed))
-        worst[seed] = float(_spectrum_misfit(a, dt, out, "BCD", np.geomspace(0.5, 10.0, 100)).max())
+    worst = _worst_misfit(a, dt, model, range(3))
     assert max(worst.values()) <= 0.10, worst
+
+
+@pytest.mark.slow  # 40 realisations per model, about 25 s
+@pytest.mark.parametrize("model", ["harichandran-vanmarcke", "luco-wong"])
+def test_the_spectral_passes_keep_the_model_coherency(manjil, model):
+    """test_simulated_coherency_matches_the_model_over_seeds with the ratio and wavelet passes on: what they add
+    is not coherent with the record, so the ensemble coherency drops, but it stays the model's within the same
+    tolerance. Measured: 0.03-0.08 below the model in each band where it is above 0.2 (without the passes:
+    within 0.02), against tolerances of 0.065-0.18; the closest, Harichandran-Vanmarcke at 1-2 Hz: 0.072
+    against 0.084."""
+    a, dt = manjil
+    _check_coherency(a, dt, SpatialVariation(coherency=model))
 
 
 def test_bad_input_names_the_field(manjil):

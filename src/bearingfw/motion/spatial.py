@@ -22,39 +22,60 @@ and ``E|X_j|^2 = |X_1|^2``. The independent parts are not bare random phases (th
 motion evenly over the whole window): each is random-phase noise with the record's Fourier
 amplitude, multiplied in time by the record's envelope (moving RMS over 1 s), whose Fourier
 amplitude is then set back to the record's, keeping its phases; so the simulated motion is strong
-where the record is and the expectations above hold exactly. One realisation's response spectrum
-still differs from the record's (its peaks depend on the phases), in two steps:
+where the record is and the expectations above hold exactly.
+
+Response spectra. One realisation's 5 %-damped spectrum still differs from the record's (its peaks
+depend on the phases). Each generated support is therefore corrected towards the record's spectrum,
+after its wave-passage delay (a fractional delay alone moves the sampled peaks of the record by up
+to ``1 - cos(pi f dt)``, 4.5 % at 4.8 Hz for ``dt`` = 0.02 s) and on the spectrum's own definition,
+:func:`~bearingfw.motion.metrics.response_spectrum` (the motion linear between samples, the peak over
+its sub-steps), in two steps:
 
 1. ``amplitude_iterations`` passes of the classical ratio correction (Gasparini and Vanmarcke's
-   SIMQKE scheme: the Fourier coefficients times target/simulated 5 %-damped spectral
-   acceleration, interpolated in log frequency between 0.2 and 20 Hz, a factor smooth in
-   frequency that keeps the phases). It brings the spectrum to within a few per cent on average,
-   but not everywhere: a record's spectrum wiggles by 10-15 % over a few per cent of frequency
-   (its phases put the peaks of neighbouring oscillators at different times), which no factor
-   smooth in frequency reproduces on other phases; more passes then oscillate.
+   SIMQKE scheme: the Fourier coefficients times target/simulated spectral acceleration at
+   :data:`MATCH_FREQUENCIES`, interpolated in log frequency, a factor smooth in frequency that keeps
+   the phases). It brings the spectrum to within some 17-37 % everywhere, not closer: a record's
+   spectrum changes by up to 10-12 % over 1 % of frequency (where its peak moves from one cycle of the
+   motion to another), which no factor smooth in frequency reproduces on other phases.
 2. ``wavelet_iterations`` passes of time-domain wavelet adjustment (the approach of Lilhanand and
-   Tseng 1988 and Abrahamson 1992, RspMatch; Hancock et al. 2006, J. Earthq. Eng. 10(S1)): each
-   5 %-damped oscillator of :data:`WAVELET_FREQUENCIES` (0.4-12 Hz, 240 of them, below 0.4 / dt)
-   whose peak misses the record's by more than :data:`WAVELET_TOLERANCE` is a candidate; each pass
-   takes the worst ones that lie at least 8 % apart in frequency (their wavelets hardly interact)
-   and gives each a wavelet ``cos(omega (t - t_c)) exp(-((t - t_c) / s)^2 / 2)`` (``s`` = 4
-   periods: a band a few per cent wide, mean and drift nil) placed so that the oscillator's
-   response to it peaks at the time of the peak to correct: the largest peak if the response is
-   too weak, every peak above the target (up to three) if it is too strong. The amplitudes solve
-   the small linear system of those peaks' responses to those wavelets (computed in the frequency
-   domain), relaxed by 0.7. A pass is kept only if it lowers the summed squared excess over the
-   tolerance (else it is halved, up to four times, then the worst oscillators are tried one by
-   one); the motion with the smallest largest misfit is returned. The wavelets are deterministic,
-   local in time and frequency, and change the Fourier coefficients by a few per cent.
+   Tseng 1988 and Abrahamson 1992, RspMatch; Hancock et al. 2006, J. Earthq. Eng. 10(S1)). Every
+   oscillator of :data:`WAVELET_FREQUENCIES` whose peak misses the record's by more than
+   :data:`WAVELET_TOLERANCE` gets a wavelet ``cos(omega (t - t_c)) exp(-((t - t_c) / s)^2 / 2)``
+   (``s`` = 6 periods: a band 2.7 % wide, no mean) per peak to correct (the largest if the
+   response is too weak; if too strong, each of the three largest above the target, peaks closer
+   than ``s`` sharing one), placed so that the oscillator's response to it peaks at that peak's
+   time. The amplitudes solve, by least squares with a small Tikhonov term (neighbouring oscillators
+   peaking together make the system nearly singular), the linear system of those peaks' responses to
+   all the wavelets, in closed form (a damped oscillator under a Gaussian-modulated cosine: complex
+   error functions). Half of that correction is applied each pass, whatever it does to the worst
+   misfit (a rule that refuses a step stalls where neighbouring oscillators want opposite changes);
+   the best motion of the passes is returned. Wavelets cut by the ends of the record (the slow ones
+   are longer than it) leave the generated motion with some drift, as the random phases do: a
+   generated support's displacement, integrated without correction, ends up to 2 m from zero
+   (Manjil, 160 m away; the matching of version 1 did the same). The baseline correction of
+   :class:`~bearingfw.analysis.excitation.SupportMotion` removes it from the differences.
 
-Measured (Manjil 1990, 4 supports up to 160 m apart, 3 seeds, each model): mean misfit 1.5-2 %,
-95th percentile 4-5 %, largest 8.5-12 % over 100 frequencies in 0.5-10 Hz (before the wavelet
-passes: largest 25-36 %). The issue's "within 10 % everywhere" holds for most but not all
-realisations (tests/motion/test_spatial.py, slow). The coherency with the passes on is not
-re-measured by the tests (they check it without them).
+The oscillators are 1.5 % apart in frequency (229 over 0.4-12 Hz). The matched spectra end within
+4-5.5 % of the record's at them and within 6-8 % between them (on 1000 frequencies): a 5 %-damped
+oscillator's peak comes from the band +-5 % around it, so neighbours 1.5 % apart share most of their
+input, but the record's spectrum still bends sharply between them (linear interpolation between
+points 1.5 % apart misses it by up to 3.6 % for Manjil), and so does a generated one, elsewhere. A
+grid 1 % apart lowered the largest misfit by about 1 % for 50 % more time; points added only where
+the record's spectrum bends did not lower it.
 
-Tests: each support's response spectrum within 10 % of the record's over 0.5-10 Hz, over seeds.
-The wave-passage delay is applied afterwards.
+Measured (``benchmarks/spatial_cost.py``; 4 supports up to 160 m apart, apparent velocity 600 m/s,
+every component of the three generated supports, 1000 frequencies over 0.5-10 Hz): Manjil 1990 (dt
+0.02 s), seeds 0-9, each coherency model: largest misfit 6.0-7.8 % per realisation (5-7 % on the
+tests' 100 frequencies); Chuetsu 2007 (dt 0.01 s), seeds 0-2: 6.2-7.6 %. After the ratio passes alone
+it is 17-37 %. Cost: one realisation of Manjil (3 generated supports x 3 components) 3-5 s of CPU,
+Chuetsu 5.5-7.5 s (version 1: tens of seconds): the spectra of all oscillators of all signals are evaluated together
+(:class:`_Oscillators`: the recursion's transfer function times the signal's spectrum, one batched
+inverse FFT), once per pass.
+
+The passes cost some coherency: what they add to a support is not coherent with the record. Over 40
+seeds, supports 100 m apart, the ensemble coherency is 0.03-0.08 below the model's with them where the
+model's is above 0.2 (0.80 against 0.87 at 1-2 Hz for Harichandran-Vanmarcke; without them 0.85), half
+of it from the ratio passes; tests/motion/test_spatial.py checks both against the same tolerance.
 
 Coherency models (``|gamma|``, lagged: without the wave-passage phase):
 
@@ -80,9 +101,10 @@ from collections.abc import Mapping
 import attrs
 import numpy as np
 
-from scipy import signal
+from scipy import fft as sp_fft
+from scipy import signal, special
 
-from bearingfw.motion.metrics import SUBSTEPS_PER_PERIOD, _oscillator_filters, response_spectrum
+from bearingfw.motion.metrics import SUBSTEPS_PER_PERIOD, _oscillator_filters
 from bearingfw.parameters import ParameterError, choice, integer_parameter, parameter
 
 __all__ = [
@@ -95,6 +117,9 @@ __all__ = [
 ]
 
 COHERENCY_MODELS = ("none", "harichandran-vanmarcke", "luco-wong")
+#: The spectral matching's version (1: ratio passes and one wavelet per band 8 % apart, on the motion before its
+#: delay; 2: every oscillator 1.5 % apart, on the delayed motion, the definition of response_spectrum).
+MATCHING_VERSION = 2
 
 
 @attrs.frozen
@@ -119,7 +144,12 @@ class SpatialVariation:
                                                 doc="response-spectrum wavelet passes (time domain)")
 
     def to_dict(self) -> dict:
-        return attrs.asdict(self)
+        """The fields, plus, with a coherency model, the version of the spectral matching (what the experiment's
+        digest takes: cells generated by an older matching are computed again)."""
+        data = attrs.asdict(self)
+        if self.coherency != "none":
+            data["matching"] = MATCHING_VERSION
+        return data
 
 
 def coherency(variation: SpatialVariation, distance, frequency) -> np.ndarray:
@@ -216,41 +246,17 @@ def _envelope(a: np.ndarray, dt: float, size: int, window: float = 1.0) -> np.nd
         return np.where(level > 0, np.sqrt(padded / np.where(level > 0, level, 1.0)), 0.0)
 
 
-#: Frequencies (Hz) at which simulated supports' response spectra are matched to the record's.
+#: Oscillators (Hz) of the ratio passes: their spectral accelerations set the smooth correction factor.
 MATCH_FREQUENCIES = np.geomspace(0.2, 20.0, 200)
-
-
-def _psa(x: np.ndarray, dt: float) -> np.ndarray:
-    """(frequencies, components) 5 %-damped pseudo-acceleration spectra at :data:`MATCH_FREQUENCIES`."""
-    periods = 1.0 / MATCH_FREQUENCIES
-    return np.column_stack([response_spectrum(x[:, c], dt, periods).psa for c in range(x.shape[1])])
-
-
-def _matched(X: np.ndarray, X1: np.ndarray, dt: float, size: int, n_out: int, iterations: int) -> np.ndarray:
-    """``X`` rescaled by a factor smooth in frequency until its response spectrum is the record's
-    (``iterations`` passes of the classical ratio correction, interpolated in log frequency)."""
-    f = np.fft.rfftfreq(size, dt)
-    target = _psa(np.fft.irfft(X1, size, axis=0)[:n_out], dt)
-    logf = np.log(MATCH_FREQUENCIES)
-    inside = np.log(np.clip(f, MATCH_FREQUENCIES[0], MATCH_FREQUENCIES[-1]))
-    for _ in range(iterations):
-        own = _psa(np.fft.irfft(X, size, axis=0)[:n_out], dt)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.where(own > 0, target / own, 1.0)
-        X = X * np.column_stack([np.interp(inside, logf, ratio[:, c]) for c in range(X.shape[1])])
-    return X
-
-
-#: Oscillator frequencies (Hz) of the wavelet passes (those below 0.4 / dt), their damping ratio and the
-#: relative misfit they leave alone.
-WAVELET_FREQUENCIES = np.geomspace(0.4, 12.0, 240)
+#: Oscillators (Hz) of the wavelet passes (those below 0.4 / dt), 1.5 % apart (module docstring: why that
+#: spacing), their damping ratio and the relative misfit at which an oscillator is left alone.
+WAVELET_FREQUENCIES = np.geomspace(0.4, 12.0, 229)
 WAVELET_DAMPING = 0.05
 WAVELET_TOLERANCE = 0.03
-_WAVELET_PERIODS = 4.0  # the Gaussian's standard deviation, in periods
+_WAVELET_PERIODS = 6.0  # the Gaussian's standard deviation, in periods
 _WAVELET_PEAKS = 3  # peaks brought down per oscillator and pass
-_WAVELET_RELAXATION = 0.7
-_WAVELET_SPACING = 0.08  # log-frequency distance between oscillators corrected together
-_WAVELET_ALONE = 6  # the worst ones tried alone when no step of them together helps
+_WAVELET_RELAXATION = 0.5  # the share of the computed correction each pass applies
+_DECAY = 30.0  # s of zeros after a signal in its FFT: the slowest oscillator's response decays to 2 % over them
 
 
 def _substeps(frequencies: np.ndarray, dt: float) -> np.ndarray:
@@ -258,105 +264,214 @@ def _substeps(frequencies: np.ndarray, dt: float) -> np.ndarray:
     return np.maximum(1, np.ceil(SUBSTEPS_PER_PERIOD * dt * frequencies - 1e-9)).astype(int)
 
 
-def _on_substeps(x: np.ndarray, m: int) -> np.ndarray:
-    """``x`` (n, ...) linear between samples, sampled ``m`` times per step."""
-    if m == 1:
-        return x
-    n = x.shape[0]
-    fine = np.arange((n - 1) * m + 1) / m
-    if x.ndim == 1:
-        return np.interp(fine, np.arange(n), x)
-    return np.column_stack([np.interp(fine, np.arange(n), x[:, k]) for k in range(x.shape[1])])
+class _Oscillators:
+    """Oscillators at ``frequencies`` (Hz, damping ``zeta``) evaluated together on signals sampled every ``dt``,
+    exactly as :func:`~bearingfw.motion.metrics.response_spectrum` defines their response: the signal linear
+    between samples, the exact recursion on ``m`` sub-steps per sample, the peak over the sub-steps.
+
+    That recursion is a linear filter, so it is evaluated in the frequency domain, all oscillators of one
+    ``m`` at once (one batched inverse FFT instead of one ``lfilter`` per oscillator): on ``size * m``
+    sub-steps, the signal's spectrum repeated ``m`` times (zeros between the samples) times the linear
+    interpolation's kernel (a triangle of base ``2 m`` sub-steps: ``sin^2(m theta / 2) / (m sin^2(theta / 2))``)
+    times the recursion's transfer function ``B(z) / A(z)``. The FFT is circular: ``size`` leaves
+    :data:`_DECAY` s of zeros after the signal, so what wraps round is the response a 0.4 Hz oscillator
+    still has 30 s after the signal's end (2 % of what it had at the end). Measured against
+    ``response_spectrum`` at the wavelet passes' oscillators: peaks within 2e-4 (Manjil) and 2e-3
+    (Chuetsu), 2e-7 with a long padding (single precision)."""
+
+    def __init__(self, frequencies: np.ndarray, dt: float, size: int, zeta: float = WAVELET_DAMPING):
+        self.frequencies = np.asarray(frequencies, dtype=float)
+        self.omega = 2.0 * math.pi * self.frequencies
+        self.dt, self.size = dt, size
+        self.substeps = _substeps(self.frequencies, dt)
+        self.groups = []  # (oscillators, m, gain (oscillators, bins), folded bin, conjugated)
+        for m in np.unique(self.substeps):
+            rows = np.flatnonzero(self.substeps == m)
+            b, den = _oscillator_filters(self.omega[rows], zeta, np.full(rows.size, dt / m))
+            bins = np.arange(size * m // 2 + 1)
+            theta = 2.0 * math.pi * bins / (size * m)
+            z = np.exp(-1j * theta)[None, :]
+            gain = (b[:, :1] + b[:, 1:2] * z + b[:, 2:] * z**2) / (den[:, :1] + den[:, 1:2] * z + den[:, 2:] * z**2)
+            if m > 1:
+                half = np.sin(theta / 2.0)
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    gain = gain * np.where(half == 0.0, m, np.sin(m * theta / 2.0) ** 2 / (m * half**2))
+            # omega^2 u for the load -a: the pseudo-acceleration's history
+            gain = (-(self.omega[rows] ** 2)[:, None] * gain).astype(np.complex64)
+            fold = bins % size
+            conjugated = fold > size // 2
+            self.groups.append((rows, int(m), gain, np.where(conjugated, size - fold, fold), conjugated))
+        #: oscillator -> (its group, its row there, its sub-steps per sample)
+        self.where = {int(r): (g, k, group[1]) for g, group in enumerate(self.groups) for k, r in enumerate(group[0])}
+
+    def histories(self, x: np.ndarray, n_keep: int) -> list[np.ndarray]:
+        """Per group of :attr:`groups`: ``omega^2 u`` (signals, oscillators, sub-steps) over ``x`` (signals, n)'s
+        first ``n_keep`` samples."""
+        X = sp_fft.rfft(np.asarray(x, dtype=np.float32), self.size, axis=-1)
+        out = []
+        for _, m, gain, fold, conjugated in self.groups:
+            Y = X if m == 1 else np.where(conjugated, np.conj(X[:, fold]), X[:, fold])
+            out.append(sp_fft.irfft(Y[:, None, :] * gain, self.size * m, axis=-1)[..., : (n_keep - 1) * m + 1])
+        return out
+
+    def peaks(self, histories: list[np.ndarray]) -> np.ndarray:
+        """(signals, oscillators) pseudo-accelerations from :meth:`histories`."""
+        out = np.empty((histories[0].shape[0], self.frequencies.size))
+        for (rows, *_), u in zip(self.groups, histories, strict=True):
+            out[:, rows] = np.max(np.abs(u), axis=-1)
+        return out
+
+    def psa(self, x: np.ndarray, n_keep: int) -> np.ndarray:
+        """(signals, oscillators) pseudo-spectral accelerations of ``x`` (signals, n), peaks over its first
+        ``n_keep`` samples."""
+        return self.peaks(self.histories(x, n_keep))
 
 
-def _wavelet_matched(x: np.ndarray, target: np.ndarray, frequencies: np.ndarray, dt: float, iterations: int) -> np.ndarray:
-    """``x`` (n,) plus wavelets until its pseudo-acceleration spectrum at ``frequencies`` is ``target``
-    within :data:`WAVELET_TOLERANCE` (module docstring, step 2): the best of at most ``iterations`` passes."""
-    x = np.array(x, dtype=float)
-    n = x.shape[0]
-    t = np.arange(n) * dt
-    omega = 2.0 * math.pi * frequencies
-    m = _substeps(frequencies, dt)
-    b, den = _oscillator_filters(omega, WAVELET_DAMPING, dt / m)
-    width = _WAVELET_PERIODS / frequencies
-    lag = np.empty(frequencies.size)  # from a wavelet's centre to its oscillator's peak response
-    for i in range(frequencies.size):
-        centre = 4.0 * width[i]
-        tt = np.arange(int((2.0 * centre + 10.0 / frequencies[i]) / dt)) * dt
-        u = signal.lfilter(b[i], den[i], -_on_substeps(_wavelet(tt, omega[i], centre, width[i]), m[i]))
-        lag[i] = np.argmax(np.abs(u)) * dt / m[i] - centre
-    size = 1 << int(math.ceil(math.log2(n + 60.0 / dt)))  # room for the slowest oscillator's decay
-    f = np.fft.rfftfreq(size, dt)
-    weight = np.full(f.size, 2.0)
-    weight[0] = 1.0
-    if size % 2 == 0:
-        weight[-1] = 1.0
-    def responses(y):
-        out = [omega[i] ** 2 * signal.lfilter(b[i], den[i], -_on_substeps(y, m[i])) for i in range(frequencies.size)]
-        misfit = np.array([np.max(np.abs(u)) / target[i] - 1.0 for i, u in enumerate(out)])
-        return out, misfit
-
-    def _wavelet_step(chosen, current, misfit):
-        rows = []  # (oscillator, time of a peak, wanted change of that peak)
-        for i in chosen:
-            u = current[i]
-            a = np.abs(u)
-            if misfit[i] > 0:  # every peak above the target comes down to it
-                peaks = signal.find_peaks(a)[0]
-                peaks = peaks[a[peaks] > target[i] * (1.0 + WAVELET_TOLERANCE / 2.0)]
-                peaks = peaks[np.argsort(-a[peaks])][:_WAVELET_PEAKS]
-            else:
-                peaks = [int(np.argmax(a))]
-            rows += [(i, p * dt / m[i], (target[i] - a[p]) * math.copysign(1.0, u[p])) for p in peaks]
-        which = np.array([r[0] for r in rows])
-        at = np.array([r[1] for r in rows])
-        change = np.array([r[2] for r in rows])
-        W = _wavelet(t[:, None], omega[which], at - lag[which], width[which])  # (n, rows)
-        # the response of oscillator ``which[r]`` at ``at[r]`` to each wavelet, through the frequency domain
-        w2 = omega[which] ** 2
-        H = -w2[None, :] / (w2[None, :] - (2.0 * math.pi * f[:, None]) ** 2
-                            + 2j * WAVELET_DAMPING * omega[which][None, :] * 2.0 * math.pi * f[:, None])
-        E = np.exp(2j * math.pi * f[:, None] * at[None, :])
-        C = np.real((H * E * weight[:, None]).T @ np.fft.rfft(W, size, axis=0)) / size
-        return W @ np.linalg.lstsq(C, _WAVELET_RELAXATION * change, rcond=1e-2)[0]
-
-    def excess(misfit):  # what the steps reduce: smoother than the worst misfit, which they may raise a little
-        return float(np.sum(np.clip(np.abs(misfit) - WAVELET_TOLERANCE, 0.0, None) ** 2))
-
-    logf = np.log(frequencies)
-    current, misfit = responses(x)
-    kept, best = x, float(np.max(np.abs(misfit)))
+def _ratio_matched(x: np.ndarray, target: np.ndarray, bank: _Oscillators, iterations: int) -> np.ndarray:
+    """``x`` (signals, n) rescaled by a factor smooth in frequency towards the pseudo-accelerations ``target``
+    (signals, oscillators of ``bank``): ``iterations`` passes of the classical ratio correction, interpolated in
+    log frequency (constant outside the bank), phases kept."""
+    n = x.shape[1]
+    f = np.fft.rfftfreq(bank.size, bank.dt)
+    logf = np.log(bank.frequencies)
+    inside = np.log(np.clip(f, bank.frequencies[0], bank.frequencies[-1]))
     for _ in range(iterations):
-        if best <= WAVELET_TOLERANCE:
-            break
-        # the worst oscillators, each a band away from a worse one already taken: their wavelets hardly interact
-        chosen: list[int] = []
-        for i in np.argsort(-np.abs(misfit)):
-            if abs(misfit[i]) <= WAVELET_TOLERANCE:
-                break
-            if all(abs(logf[i] - logf[j]) > _WAVELET_SPACING for j in chosen):
-                chosen.append(int(i))
-        before = excess(misfit)
-        for group in (chosen, *([i] for i in chosen[:_WAVELET_ALONE])):  # together; if no step helps, one by one
-            step = _wavelet_step(group, current, misfit)
-            accepted = False
-            for _ in range(4):  # accept a step that reduces the excess (the peaks move: halve it if not)
-                trial, trial_misfit = responses(x + step)
-                if excess(trial_misfit) < before:
-                    x, current, misfit, accepted = x + step, trial, trial_misfit, True
-                    break
-                step = step / 2.0
-            if accepted:
-                break
-        else:
-            break  # no step helps any more
-        if float(np.max(np.abs(misfit))) < best:
-            kept, best = x, float(np.max(np.abs(misfit)))
-    return kept
+        own = bank.psa(x, n)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(own > 0, target / own, 1.0)
+        factor = np.vstack([np.interp(inside, logf, r) for r in ratio])
+        x = np.fft.irfft(np.fft.rfft(x, bank.size, axis=-1) * factor, bank.size, axis=-1)[:, :n]
+    return x
 
 
 def _wavelet(t, omega, centre, width):
     return np.cos(omega * (t - centre)) * np.exp(-0.5 * ((t - centre) / width) ** 2)
+
+
+def _wavelet_lags(bank: _Oscillators) -> np.ndarray:
+    """Per oscillator, the time (s) from the centre of its own wavelet to the peak of its response to it."""
+    dt, m = bank.dt, bank.substeps
+    b, den = _oscillator_filters(bank.omega, WAVELET_DAMPING, dt / m)
+    width = _WAVELET_PERIODS / bank.frequencies
+    lag = np.empty(bank.frequencies.size)
+    for i, f in enumerate(bank.frequencies):
+        centre = 4.0 * width[i]
+        fine = np.arange(int((2.0 * centre + 10.0 / f) / dt) * m[i] + 1) * dt / m[i]
+        u = signal.lfilter(b[i], den[i], -_wavelet(fine, bank.omega[i], centre, width[i]))
+        lag[i] = np.argmax(np.abs(u)) * dt / m[i] - centre
+    return lag
+
+
+def _wavelet_step(u: list[np.ndarray], misfit: np.ndarray, target: np.ndarray, bank: _Oscillators,
+                  lag: np.ndarray, n: int, tolerance: float) -> np.ndarray:
+    """One signal's correction (n,): wavelets on every oscillator out of ``tolerance`` (module docstring)."""
+    dt = bank.dt
+    which, at, change, carries = [], [], [], []  # per row: oscillator, time of a peak, its wanted change, a wavelet?
+    for i in np.flatnonzero(np.abs(misfit) > tolerance):
+        g, k, m = bank.where[int(i)]
+        history = u[g][k]
+        a = np.abs(history)
+        if misfit[i] > 0:  # every peak above the target comes down to it
+            peaks = signal.find_peaks(a)[0]
+            peaks = peaks[a[peaks] > target[i] * (1.0 + tolerance / 2.0)]
+            peaks = peaks[np.argsort(-a[peaks])][:_WAVELET_PEAKS]
+            if peaks.size == 0:
+                peaks = np.array([int(np.argmax(a))])
+        else:
+            peaks = np.array([int(np.argmax(a))])
+        # peaks closer than the wavelet's width share one wavelet (two would be nearly the same function)
+        separation = _WAVELET_PERIODS / bank.frequencies[i]
+        placed: list[float] = []
+        for p in peaks:
+            which.append(int(i))
+            at.append(p * dt / m)
+            change.append((target[i] - a[p]) * math.copysign(1.0, history[p]))
+            carries.append(all(abs(at[-1] - s) >= separation for s in placed))
+            if carries[-1]:
+                placed.append(at[-1])
+    which, at, change = np.array(which), np.array(at), np.array(change)
+    q = np.flatnonzero(carries)
+    wavelets = q.size
+    omega = bank.omega[which]
+    width = _WAVELET_PERIODS / bank.frequencies[which]
+    centre = at - lag[which]
+    # C[r, q]: the response of oscillator which[r] at time at[r] to wavelet q (closed form), where it matters:
+    # an oscillator more than a factor 2 in frequency from a wavelet responds to it by a few per cent of its own
+    # wavelet's effect, and not at all more than 5 widths before the wavelet
+    C = np.zeros((which.size, wavelets))
+    near = (np.abs(np.log(omega[:, None] / omega[None, q])) < math.log(2.0)) & (
+        at[:, None] > centre[None, q] - 5.0 * width[None, q])
+    r, k = np.nonzero(near)
+    C[r, k] = _wavelet_response(omega[r], at[r], omega[q[k]], centre[q[k]], width[q[k]])
+    # neighbouring oscillators' peaks at one time make C nearly singular: a Tikhonov-regularised solution, the
+    # ridge 1e-4 times the largest column's square (about what lstsq's rcond = 1e-2 would cut, far cheaper)
+    normal = C.T @ C
+    ridge = 1e-4 * float(np.max(np.diag(normal)))
+    amplitude = np.linalg.solve(normal + ridge * np.eye(wavelets), C.T @ change)
+    step = np.zeros(n)
+    start = np.clip(np.floor((centre - 5.0 * width) / dt).astype(int), 0, n)  # the Gaussian's +-5 widths
+    stop = np.clip(np.ceil((centre + 5.0 * width) / dt).astype(int) + 1, 0, n)
+    for k, j in enumerate(q):
+        t = np.arange(start[j], stop[j]) * dt
+        step[start[j]:stop[j]] += amplitude[k] * _wavelet(t, omega[j], centre[j], width[j])
+    return step
+
+
+def _wavelet_response(omega, t, wavelet_omega, centre, width, zeta=WAVELET_DAMPING):
+    """``omega^2 u(t)`` of the oscillator ``u'' + 2 zeta omega u' + omega^2 u = -w(t)``, at rest at first, under
+    the wavelet ``w = cos(Omega (t - c)) exp(-((t - c) / s)^2 / 2)`` (``Omega`` = ``wavelet_omega``, ``c`` =
+    ``centre``, ``s`` = ``width``); arrays broadcast. Closed form: with the impulse response
+    ``Im(exp(lambda t)) / omega_d``, ``lambda = -zeta omega + i omega_d``, each half ``exp(+-i Omega t) / 2`` of
+    the cosine gives a Gaussian integral up to ``t``, an ``erfc`` of complex argument, written with the
+    Faddeeva function ``wofz`` so that nothing overflows (the branch on the sign of its argument keeps it in
+    the half-plane where ``wofz`` is bounded)."""
+    wd = omega * math.sqrt(1.0 - zeta**2)
+    lam = -zeta * omega + 1j * wd
+    T = t - centre
+    total = 0.0
+    for mu in (1j * wavelet_omega, -1j * wavelet_omega):
+        kappa = mu - lam
+        z = (kappa * width**2 - T) / (width * math.sqrt(2.0))
+        base = np.exp(mu * T - 0.5 * (T / width) ** 2)
+        before = z.real >= 0.0  # the wavelet's bulk still ahead of t: exp(...) erfc(z) directly
+        with np.errstate(over="ignore", invalid="ignore"):
+            ahead = base * special.wofz(1j * z)
+            # erfc(z) = 2 - erfc(-z): the free vibration after the wavelet minus what is still to come
+            behind = 2.0 * np.exp(lam * T + 0.5 * (kappa * width) ** 2) - base * special.wofz(-1j * z)
+        total = total + np.where(before, ahead, behind)
+    return -(omega**2) / wd * np.imag(0.5 * width * math.sqrt(0.5 * math.pi) * total)
+
+
+def _wavelet_matched(x: np.ndarray, target: np.ndarray, bank: _Oscillators, iterations: int,
+                     tolerance: float = WAVELET_TOLERANCE) -> np.ndarray:
+    """``x`` (signals, n) plus wavelets until each signal's pseudo-accelerations at ``bank``'s oscillators are
+    ``target`` (signals, oscillators) within ``tolerance`` (module docstring, step 2): per signal, the best of
+    at most ``iterations`` passes. The signals are evaluated together (one batched FFT per pass)."""
+    x = np.array(x, dtype=float)
+    n = x.shape[1]
+    lag = _wavelet_lags(bank)
+    u = bank.histories(x, n)
+    misfit = bank.peaks(u) / target - 1.0
+    worst = np.max(np.abs(misfit), axis=1)
+    best, best_worst = x.copy(), worst.copy()
+    for _ in range(iterations):
+        active = np.flatnonzero(worst > tolerance)
+        if active.size == 0:
+            break
+        # every pass is taken, even one that raises the worst misfit a little: a rule that refuses such steps
+        # (on the worst or on the summed excess) stalls where neighbouring oscillators want opposite changes,
+        # while half steps taken anyway keep moving; the best motion seen is what is returned
+        for s in active:
+            step = _wavelet_step([h[s] for h in u], misfit[s], target[s], bank, lag, n, tolerance)
+            x[s] += _WAVELET_RELAXATION * step
+        trial = bank.histories(x[active], n)
+        for h, th in zip(u, trial, strict=True):
+            h[active] = th
+        misfit[active] = bank.peaks(trial) / target[active] - 1.0
+        worst[active] = np.max(np.abs(misfit[active]), axis=1)
+        improved = active[worst[active] < best_worst[active]]
+        best[improved], best_worst[improved] = x[improved], worst[improved]
+    return best
 
 
 def spatial_motions(acceleration, dt: float, positions, variation: SpatialVariation) -> dict[str, np.ndarray]:
@@ -395,11 +510,6 @@ def spatial_motions(acceleration, dt: float, positions, variation: SpatialVariat
         L = _cholesky_stack(gamma)
         amplitude = np.abs(X1)
         envelope = _envelope(a, dt, size)
-        frequencies = WAVELET_FREQUENCIES[WAVELET_FREQUENCIES < 0.4 / dt]
-        if variation.wavelet_iterations:
-            padded = np.vstack([a, np.zeros((n_out - n, a.shape[1]))])
-            targets = np.column_stack([response_spectrum(padded[:, c], dt, 1.0 / frequencies,
-                                                         WAVELET_DAMPING).psa for c in range(a.shape[1])])
         sources = []  # independent motions with the record's Fourier amplitude and (roughly) its envelope
         for _ in range(g - 1):
             noise = np.fft.irfft(amplitude * np.exp(2j * math.pi * rng.random(X1.shape)), size, axis=0) * envelope
@@ -410,15 +520,37 @@ def spatial_motions(acceleration, dt: float, positions, variation: SpatialVariat
             Xj = L[:, j, 0][:, None] * X1
             for k in range(1, j + 1):
                 Xj = Xj + L[:, j, k][:, None] * sources[k - 1]
-            Xj = _matched(Xj, X1, dt, size, n_out, variation.amplitude_iterations)
-            if variation.wavelet_iterations:
-                xj = np.fft.irfft(Xj, size, axis=0)[:n_out]
-                xj = np.column_stack([_wavelet_matched(xj[:, c], targets[:, c], frequencies, dt,
-                                                       variation.wavelet_iterations) for c in range(xj.shape[1])])
-                Xj = np.fft.rfft(xj, size, axis=0)
             X[order[j]] = Xj
     out = {}
     for name in names:
         shift = np.exp(-2j * math.pi * f * tau[name])[:, None]
         out[name] = np.fft.irfft(X[name] * shift, size, axis=0)[:n_out]
+    generated = order[1:] if variation.coherency != "none" else []
+    if generated and (variation.amplitude_iterations or variation.wavelet_iterations):
+        # matched after the delay: a fractional delay alone moves a sampled peak by up to 1 - cos(pi f dt)
+        x = np.concatenate([out[name].T for name in generated])  # (supports x components, n_out)
+        components = a.shape[1]
+        matched = _spectrum_matched(x, a.T, dt, variation)
+        for k, name in enumerate(generated):
+            out[name] = matched[k * components:(k + 1) * components].T.copy()
     return out
+
+
+def _spectrum_matched(x: np.ndarray, record: np.ndarray, dt: float, variation: SpatialVariation) -> np.ndarray:
+    """``x`` (supports x components, n_out) with the 5 %-damped response spectra of ``record``'s components
+    (components, n), support after support: the ratio passes, then the wavelet passes (module docstring).
+    A component without motion (a zero spectrum: nothing to match) is left as it is."""
+    n, repeats = record.shape[1], x.shape[0] // record.shape[0]
+    size = sp_fft.next_fast_len(x.shape[1] + int(math.ceil(_DECAY / dt)), real=True)
+    x = np.array(x)
+    passes = ((MATCH_FREQUENCIES[MATCH_FREQUENCIES < 0.5 / dt], variation.amplitude_iterations, _ratio_matched),
+              (WAVELET_FREQUENCIES[WAVELET_FREQUENCIES < 0.4 / dt], variation.wavelet_iterations, _wavelet_matched))
+    for frequencies, iterations, matched in passes:
+        if not iterations or frequencies.size == 0:
+            continue
+        bank = _Oscillators(frequencies, dt, size)
+        target = np.tile(bank.psa(record, n), (repeats, 1))
+        moving = np.flatnonzero(np.all(target > 0.0, axis=1))
+        if moving.size:
+            x[moving] = matched(x[moving], target[moving], bank, iterations)
+    return x

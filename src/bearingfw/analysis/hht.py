@@ -54,6 +54,12 @@ dense n x m product). ``B`` and ``V`` act as one stacked operator (``[B; V] x``,
 ``[S; kv V W]``): one product gives both. General path (for checking): Newton on ``x`` with the
 full tangent ``A + c B^T K_t B``, refactorised every iteration. Both solve the same equations.
 
+Linear laws (every law of the run declares ``linear``, :mod:`bearingfw.protocol`): ``phi(d) =
+K_l (d - d_0)`` with one constant tangent, so their stiffness goes into the factorised matrix,
+``(A + c B^T K_l B) x = r - c B^T K_l e`` (``e`` the support motion's offset of the law
+displacements, zero for uniform motion), and a step is that one back-substitution: no law call,
+no Newton iteration (:func:`linear_tangent`). A run with any other law keeps the condensation.
+
 Velocity (laws with ``uses_velocity``, :mod:`bearingfw.protocol`): they get the trial velocity of
 their directions at the trial point, ``B v_{n+1} = B vt + gamma / (beta h) (B x - B xt)`` with
 ``B x = d - d_0`` (the preload's ``d_0`` is no motion), on both paths; so

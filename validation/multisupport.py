@@ -82,6 +82,7 @@ for them and reports the rows outside them when there are.
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import sys
 import time
 from pathlib import Path
@@ -93,7 +94,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import _multispan  # noqa: E402
 import _translate  # noqa: E402
-import models  # noqa: E402  (validation/models.py: OpenSees's stale slips)
+# validation/models.py (OpenSees's stale slips), loaded by its path: a test folder's own ``models``
+# module may already be imported under that name in the same pytest process
+_models_spec = importlib.util.spec_from_file_location("bearingfw_validation_models", Path(__file__).resolve().parent / "models.py")
+models = importlib.util.module_from_spec(_models_spec)
+_models_spec.loader.exec_module(models)
 
 from bearingfw.analysis import (  # noqa: E402
     ConnectorResponse,

@@ -287,10 +287,12 @@ def test_the_figures_option_overrides_the_file(tmp_path):
 def test_a_run_draws_the_report_figures_in_png_and_reports_each(tmp_path):
     """Default [figures]: the figures the report shows (no hysteresis sheets), PNG only, each on the
     progress display; an intensity's figures are drawn as soon as its cells are done, while the
-    other intensity's cells run."""
-    path = write_tiny(tmp_path / "spec", models=("M1", "M2"), levels=("D_0", "D_II"), figures=True)
+    other intensity's cells run (the last cell sleeps in its law, so that the overlap does not depend
+    on how fast the machine is)."""
+    path = write_tiny(tmp_path / "spec", models=("M1", "M2", "slow"), levels=("D_0", "D_II"), figures=True, delay=1e-3)
     stream = io.StringIO()
-    summary = run_experiment(load_experiment(path), tmp_path / "out", ProcessExecutor(2), progress=Progress(stream))
+    # one worker: the cells in plan order (model by model), so D_0 is complete before the last cell, slow at D_II
+    summary = run_experiment(load_experiment(path), tmp_path / "out", ProcessExecutor(1), progress=Progress(stream))
     names = sorted(Path(p).name for p in summary.files["figures"])
     assert all(n.endswith(".png") for n in names) and not any(n.startswith("hysteresis") for n in names)
     assert {"stress_tremor_D_0.png", "bearing-force_1B_tremor_D_0.png", "friction-ratio_1B_tremor_D_0.png",
@@ -303,7 +305,7 @@ def test_a_run_draws_the_report_figures_in_png_and_reports_each(tmp_path):
     order = [line.split()[2] for line in drawn]
     assert order.index("stress_tremor_D_0") < order.index("heatmap_stress.G4")
     first_figure = next(k for k, line in enumerate(lines) if line.startswith("[figure "))
-    last_cell = next(k for k, line in enumerate(lines) if line.startswith("[4/4]"))
+    last_cell = next(k for k, line in enumerate(lines) if line.startswith("[6/6]"))
     assert first_figure < last_cell and "stress_tremor_D_0" in lines[first_figure]  # overlapped with the cells
     assert f"{len(names)} figure(s) drawn" in lines[-1]
     report = (tmp_path / "out" / "report.md").read_text()

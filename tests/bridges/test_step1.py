@@ -11,8 +11,8 @@ from bearingfw.bridges.study import calibrate_ks, ks_estimate, modes, tuned_brid
 
 
 @pytest.fixture(scope="module")
-def step1():
-    return calibrate_ks()
+def step1(unbounded_step1):
+    return unbounded_step1
 
 
 def test_eq11_on_the_model_matches_the_paper():

@@ -5,6 +5,10 @@
   the first time step fails.
 - ``test-slow-spring``: a linear spring that sleeps ``delay`` seconds in every call, so that a cell
   takes long enough for a test to kill the run in the middle.
+- ``test-held-spring``: a linear spring that, in a process whose environment has ``BFW_TEST_HOLD``
+  set, never returns once it is displaced (like ``test-blocking-spring``); elsewhere it is a plain
+  spring. A test starts a run with the variable, so that its cells of this law are in flight for as
+  long as the test wants, and computes the same cells at full speed without it (same digest).
 - ``test-blocking-spring``: a linear spring whose ``respond`` never returns once it is displaced (a
   stuck plugin): the run's check works, the first time step hangs; for interrupts and time limits.
 - ``test-deaf-spring``: like ``test-blocking-spring``, but it first blocks SIGALRM in its thread, as
@@ -17,6 +21,7 @@
 
 from __future__ import annotations
 
+import os
 import time
 from typing import ClassVar
 
@@ -64,6 +69,27 @@ class SlowSpring:
 
     def respond(self, state, u, normal_force, dt) -> LawResponse:
         time.sleep(self.delay)
+        response = _spring(self.k, u, self.dims)
+        return LawResponse(response.force, response.tangent, state)
+
+
+#: The environment variable that holds ``test-held-spring`` (read in the worker, at every call).
+HOLD = "BFW_TEST_HOLD"
+
+
+@attrs.frozen
+class HeldSpring:
+    name: ClassVar[str] = "test-held-spring"
+    rigid: ClassVar[bool] = False
+    k: float = parameter(low=0.0, low_open=True, unit="N/m", default=4e8)
+    dims: int = dims_parameter()
+
+    def initial_state(self, n: int) -> dict:
+        return {}
+
+    def respond(self, state, u, normal_force, dt) -> LawResponse:
+        while os.environ.get(HOLD) and np.any(np.abs(np.asarray(u)) > 1e-12):
+            time.sleep(0.1)  # held in short sleeps until the process is killed
         response = _spring(self.k, u, self.dims)
         return LawResponse(response.force, response.tangent, state)
 
@@ -141,4 +167,4 @@ class NoisySpring:
 
 @bearingfw.hookimpl
 def bearingfw_register_laws():
-    return [ExplodingSpring, SlowSpring, BlockingSpring, DeafSpring, MutatingSpring, NoisySpring]
+    return [ExplodingSpring, SlowSpring, HeldSpring, BlockingSpring, DeafSpring, MutatingSpring, NoisySpring]

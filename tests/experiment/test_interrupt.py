@@ -5,14 +5,17 @@ and the matrices equal those of an uninterrupted run exactly. Worker processes d
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import pytest
+from bfw_test_laws import HOLD
 from tiny_experiment import write_tiny
 
 from bearingfw.experiment import (
@@ -24,11 +27,15 @@ from bearingfw.experiment import (
     run_experiment,
 )
 from bearingfw.experiment.store import CELL_FORMAT, LOCK_NAME
+from bearingfw.experiment.structure import package_source_digest
 
 pytestmark = pytest.mark.skipif(not hasattr(os, "killpg"), reason="needs POSIX process groups")
 
-#: Slow cells (the test law sleeps in every call), so that the kill lands in the middle of the run.
-MODELS = ("slow", "M1", "M2")
+#: The killed run computes M1's cells, then the held ones, which never end in that run (it has
+#: BFW_TEST_HOLD set, see bfw_test_laws.py): the kill after its first finished cell lands before its last
+#: whatever the machine's load. Without the variable (here, for the reference and the rerun) they are
+#: plain springs, computed at full speed with the same digests.
+MODELS = ("M1", "held")
 LEVELS = ("D_0", "D_II")
 
 
@@ -37,17 +44,29 @@ def _finished(store: Store, jobs, every) -> set[str]:
 
 
 def _start(spec, out, workers: int = 2, **kwargs) -> subprocess.Popen:
-    return subprocess.Popen(
-        [sys.executable, "-m", "bearingfw", "run", str(spec), "--out", str(out), "--executor", "processes",
-         "--workers", str(workers), "--quiet"],
-        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, **kwargs,
-    )
+    """``bearingfw run`` in a new process, with the held cells held (its standard error next to ``out``)."""
+    with open(f"{out}.stderr", "wb") as stderr:
+        return subprocess.Popen(
+            [sys.executable, "-m", "bearingfw", "run", str(spec), "--out", str(out), "--executor", "processes",
+             "--workers", str(workers), "--quiet"],
+            stdout=subprocess.DEVNULL, stderr=stderr, env={**os.environ, HOLD: "1"}, **kwargs,
+        )
 
 
-def _wait_for_a_cell(process, store, jobs, every, timeout=120.0) -> None:
+def _wait_for_a_cell(process, store, jobs, timeout=120.0) -> None:
+    """Until the run commits its first cell; the run must still be running then."""
     deadline = time.monotonic() + timeout
-    while not _finished(store, jobs, every) and time.monotonic() < deadline and process.poll() is None:
+    stored = {}
+    while not any(stored.values()) and time.monotonic() < deadline and process.poll() is None:
         time.sleep(0.02)
+        stored = {j.id: (store.read_cell(j.id) or {}).get("digest") for j in jobs}
+    assert all(stored.get(j.id) in (None, j.digest) for j in jobs), (
+        "the run stored cells under other digests than this process's plan: were bearingfw's sources edited "
+        "while the test ran?")
+    # The held cells never end, so the run cannot end by itself; if it did, say why.
+    assert process.poll() is None, (
+        f"the run ended (status {process.returncode}) before the test saw a finished cell: "
+        + Path(f"{store.root}.stderr").read_text(errors="replace")[-2000:])
 
 
 def _classify(out, jobs, every) -> dict[str, set[str]]:
@@ -83,7 +102,10 @@ def _classify(out, jobs, every) -> dict[str, set[str]]:
 
 
 def test_kill_minus_nine_then_rerun(tmp_path):
-    spec = write_tiny(tmp_path / "spec", models=MODELS, levels=LEVELS, delay=5e-4)
+    # The digests of this process's plan are compared with those the run's new process computes: make this
+    # process's source digest that of the sources as they are now (it is cached from the first run).
+    package_source_digest.cache_clear()
+    spec = write_tiny(tmp_path / "spec", models=MODELS, levels=LEVELS)
     experiment = load_experiment(spec)
     every = recording(experiment)
     jobs = plan_cells(experiment)
@@ -96,9 +118,10 @@ def test_kill_minus_nine_then_rerun(tmp_path):
     store = Store(out)
     process = _start(spec, out, start_new_session=True)
     try:
-        _wait_for_a_cell(process, store, jobs, every)
+        _wait_for_a_cell(process, store, jobs)
     finally:
-        os.killpg(process.pid, signal.SIGKILL)  # the run and its worker processes, with no chance to clean up
+        with contextlib.suppress(ProcessLookupError):  # (gone only if the run ended by itself: a failure above)
+            os.killpg(process.pid, signal.SIGKILL)  # the run and its worker processes, with no chance to clean up
         process.wait()
     kept = _finished(store, jobs, every)
     assert 0 < len(kept) < len(everything), "the kill should land after the first cell and before the last"
@@ -125,7 +148,7 @@ def test_the_workers_end_when_the_run_is_killed(tmp_path):
     """Only the run's own process gets SIGKILL: its workers notice and end, so that none goes on writing
     into the directory (which the next run may hold by then)."""
     psutil = pytest.importorskip("psutil")
-    spec = write_tiny(tmp_path / "spec", models=("slow",), levels=LEVELS, delay=2e-3)
+    spec = write_tiny(tmp_path / "spec", models=("held",), levels=LEVELS)  # workers held in their cells
     experiment = load_experiment(spec)
     jobs, every = plan_cells(experiment), recording(experiment)
     out = tmp_path / "out"

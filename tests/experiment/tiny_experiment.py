@@ -54,6 +54,7 @@ MODELS = {
     "M2": '[models.M2]\npreset = "M2"',
     "boom": '[models.boom]\nlaw = "test-exploding-spring"',
     "slow": '[models.slow]\nlaw = "test-slow-spring"\nparams = {{ delay = {delay} }}',
+    "held": '[models.held]\nlaw = "test-held-spring"',
     "block": '[models.block]\nlaw = "test-blocking-spring"',
     "mutate": '[models.mutate]\nlaw = "test-mutating-spring"',
     "noisy": '[models.noisy]\nlaw = "test-noisy-spring"',

@@ -343,18 +343,19 @@ def _columns(snapshots: list[Snapshot], field: str) -> np.ndarray:
     return np.stack([getattr(s, field) for s in snapshots], axis=1)
 
 
-def _support_columns(ctx: Context, snapshots: list[Snapshot], k: int) -> np.ndarray | None:
-    """(3 per differing group, instants): the ``k``-th of the differential support displacement, velocity
-    and acceleration at each snapshot; None for uniform motion."""
+def _support_columns(ctx: Context, snapshots: list[Snapshot]) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """The differential support displacement, velocity and acceleration (3 per differing group, instants)
+    at the snapshots, one column each; None for uniform motion."""
     if ctx.excitation.differential is None:
         return None
-    return np.stack([ctx.excitation.support_differences(s.t)[k] for s in snapshots], axis=1)
+    at = [ctx.excitation.support_differences(s.t) for s in snapshots]
+    return tuple(np.stack([d[k] for d in at], axis=1) for k in range(3))
 
 
 def _rows_with_support(rows: list, value: np.ndarray, quasi: np.ndarray | None, ctx: Context, snapshots) -> None:
     """Append the columns of ``value`` (n, instants), plus the quasi-static share, as rows."""
     if quasi is not None:
-        value = value + quasi @ _support_columns(ctx, snapshots, 0)
+        value = value + quasi @ _support_columns(ctx, snapshots)[0]
     rows.extend(value.T)
 
 
@@ -575,9 +576,7 @@ class _ConnectorProbe(_Probe):
         x = _columns(snapshots, "x")
         f = _columns(snapshots, "f")
         d = _columns(snapshots, "d")
-        support = None
-        if ctx.excitation.differential is not None:
-            support = tuple(_support_columns(ctx, snapshots, i) for i in range(3))
+        support = _support_columns(ctx, snapshots)
         lam = np.tile(ctx.preload.multipliers, (k, 1))
         if self.multipliers is not None:
             nodal = None if snapshots[0].nodal is None else _columns(snapshots, "nodal")
@@ -802,7 +801,7 @@ class _NodalProbe(_Probe):
                 snapshots, "ground_velocity" if quantity == "velocity" else "ground_acceleration"
             )
         if self.psi is not None:  # the quasi-static motion of the differential support motion
-            value = value + self.psi @ _support_columns(self.ctx, snapshots, QUANTITIES.index(quantity))
+            value = value + self.psi @ _support_columns(self.ctx, snapshots)[QUANTITIES.index(quantity)]
         self.rows.extend(value.T)
 
     def _finish(self):

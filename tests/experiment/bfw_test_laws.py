@@ -40,8 +40,10 @@ def _spring(k: float, u, dims: int) -> LawResponse:
 
 
 @attrs.frozen
-class ExplodingSpring:
-    name: ClassVar[str] = "test-exploding-spring"
+class _TestSpring:
+    """A linear spring (not declared ``linear``: the kernel calls it in every Newton iteration); each
+    test law below changes only what happens before the spring answers (:meth:`_before`)."""
+
     rigid: ClassVar[bool] = False
     k: float = parameter(low=0.0, low_open=True, unit="N/m", default=4e8)
     dims: int = dims_parameter()
@@ -49,28 +51,35 @@ class ExplodingSpring:
     def initial_state(self, n: int) -> dict:
         return {}
 
+    def _before(self, u: np.ndarray) -> None:
+        """What the test law does first (raise, sleep, block)."""
+
     def respond(self, state, u, normal_force, dt) -> LawResponse:
-        if np.any(np.abs(np.asarray(u)) > 1e-12):
-            raise RuntimeError("test-exploding-spring: exploded on purpose")
+        self._before(np.asarray(u))
         response = _spring(self.k, u, self.dims)
         return LawResponse(response.force, response.tangent, state)
+
+
+def _displaced(u: np.ndarray) -> bool:
+    return bool(np.any(np.abs(u) > 1e-12))
 
 
 @attrs.frozen
-class SlowSpring:
+class ExplodingSpring(_TestSpring):
+    name: ClassVar[str] = "test-exploding-spring"
+
+    def _before(self, u):
+        if _displaced(u):
+            raise RuntimeError("test-exploding-spring: exploded on purpose")
+
+
+@attrs.frozen
+class SlowSpring(_TestSpring):
     name: ClassVar[str] = "test-slow-spring"
-    rigid: ClassVar[bool] = False
-    k: float = parameter(low=0.0, low_open=True, unit="N/m", default=4e8)
     delay: float = parameter(low=0.0, default=1e-3, unit="s")
-    dims: int = dims_parameter()
 
-    def initial_state(self, n: int) -> dict:
-        return {}
-
-    def respond(self, state, u, normal_force, dt) -> LawResponse:
+    def _before(self, u):
         time.sleep(self.delay)
-        response = _spring(self.k, u, self.dims)
-        return LawResponse(response.force, response.tangent, state)
 
 
 #: The environment variable that holds ``test-held-spring`` (read in the worker, at every call).
@@ -78,66 +87,39 @@ HOLD = "BFW_TEST_HOLD"
 
 
 @attrs.frozen
-class HeldSpring:
+class HeldSpring(_TestSpring):
     name: ClassVar[str] = "test-held-spring"
-    rigid: ClassVar[bool] = False
-    k: float = parameter(low=0.0, low_open=True, unit="N/m", default=4e8)
-    dims: int = dims_parameter()
 
-    def initial_state(self, n: int) -> dict:
-        return {}
-
-    def respond(self, state, u, normal_force, dt) -> LawResponse:
-        while os.environ.get(HOLD) and np.any(np.abs(np.asarray(u)) > 1e-12):
+    def _before(self, u):
+        while os.environ.get(HOLD) and _displaced(u):
             time.sleep(0.1)  # held in short sleeps until the process is killed
-        response = _spring(self.k, u, self.dims)
-        return LawResponse(response.force, response.tangent, state)
 
 
 @attrs.frozen
-class BlockingSpring:
+class BlockingSpring(_TestSpring):
     name: ClassVar[str] = "test-blocking-spring"
-    rigid: ClassVar[bool] = False
-    k: float = parameter(low=0.0, low_open=True, unit="N/m", default=4e8)
-    dims: int = dims_parameter()
 
-    def initial_state(self, n: int) -> dict:
-        return {}
-
-    def respond(self, state, u, normal_force, dt) -> LawResponse:
-        while np.any(np.abs(np.asarray(u)) > 1e-12):
+    def _before(self, u):
+        while _displaced(u):
             time.sleep(1.0)  # stuck for good, in short sleeps (a signal gets through between them)
-        response = _spring(self.k, u, self.dims)
-        return LawResponse(response.force, response.tangent, state)
 
 
 @attrs.frozen
-class DeafSpring:
+class DeafSpring(_TestSpring):
     name: ClassVar[str] = "test-deaf-spring"
-    rigid: ClassVar[bool] = False
-    k: float = parameter(low=0.0, low_open=True, unit="N/m", default=4e8)
-    dims: int = dims_parameter()
 
-    def initial_state(self, n: int) -> dict:
-        return {}
-
-    def respond(self, state, u, normal_force, dt) -> LawResponse:
-        if np.any(np.abs(np.asarray(u)) > 1e-12):
+    def _before(self, u):
+        if _displaced(u):
             import signal
 
             signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGALRM})
             while True:
                 time.sleep(1.0)
-        response = _spring(self.k, u, self.dims)
-        return LawResponse(response.force, response.tangent, state)
 
 
 @attrs.frozen
-class MutatingSpring:
+class MutatingSpring(_TestSpring):
     name: ClassVar[str] = "test-mutating-spring"
-    rigid: ClassVar[bool] = False
-    k: float = parameter(low=0.0, low_open=True, unit="N/m", default=4e8)
-    dims: int = dims_parameter()
 
     def initial_state(self, n: int) -> dict:
         return {"calls": np.zeros(n)}
@@ -150,19 +132,11 @@ class MutatingSpring:
 
 
 @attrs.frozen
-class NoisySpring:
+class NoisySpring(_TestSpring):
     name: ClassVar[str] = "test-noisy-spring"
-    rigid: ClassVar[bool] = False
-    k: float = parameter(low=0.0, low_open=True, unit="N/m", default=4e8)
-    dims: int = dims_parameter()
 
-    def initial_state(self, n: int) -> dict:
-        return {}
-
-    def respond(self, state, u, normal_force, dt) -> LawResponse:
+    def _before(self, u):
         np.exp(np.full(1, 1000.0))  # overflows: RuntimeWarning, result unused
-        response = _spring(self.k, u, self.dims)
-        return LawResponse(response.force, response.tangent, state)
 
 
 @bearingfw.hookimpl

@@ -24,7 +24,7 @@ broadcasts a scalar as a length-1 axis and an array as a column).
 
 from __future__ import annotations
 
-from typing import ClassVar
+from typing import ClassVar, NamedTuple
 
 import attrs
 import numpy as np
@@ -40,6 +40,38 @@ for _e in _EYE.values():
 #: 0.0 as a numpy array: a ufunc takes it faster than the Python float (the same comparison)
 _ZERO = np.zeros(())
 _ZERO.setflags(write=False)
+
+
+class ReturnMap(NamedTuple):
+    """What :func:`friction_return_map` gives, per connector."""
+
+    force: np.ndarray  # (n, dims): the trial force, scaled back onto the slip surface where it lies beyond
+    slip: np.ndarray  # (n, dims): the slip after the step
+    direction: np.ndarray  # (n, dims): the trial force's direction where it slides (else the trial force itself)
+    sliding: np.ndarray  # (n,) bool: on the slip surface, or without capacity (a force identically zero)
+    tangent: np.ndarray  # (n, dims, dims): d force / d u
+
+
+def friction_return_map(k, u: np.ndarray, slip: np.ndarray, capacity: np.ndarray) -> ReturnMap:
+    """The backward-Euler return map of a stick spring ``k`` on a circular slip surface of radius
+    ``capacity`` (module docstring), for the friction laws that differ only in their capacity
+    (this module's, the PTFE and pendulum plugins').
+
+    ``k``: a scalar or a column ``(n, 1)``; ``u``, ``slip``: ``(n, dims)``; ``capacity``: ``(n,)``.
+    Where ``capacity <= 0`` the force is identically zero, also at a zero trial force.
+    """
+    trial = k * (u - slip)
+    # |trial| per connector (in 1-D |t| itself, which sqrt(t * t) equals but for underflow)
+    trial_norm = np.abs(trial[:, 0]) if u.shape[1] == 1 else np.sqrt(np.einsum("ij,ij->i", trial, trial))
+    sliding = (trial_norm > capacity) | (capacity <= 0.0)
+    safe_norm = np.where(sliding & (trial_norm > 0.0), trial_norm, 1.0)
+    scale = np.where(sliding, capacity / safe_norm, 1.0)
+    force = trial * scale[:, None]
+    new_slip = np.where(sliding[:, None], u - force / k, slip)
+    direction = trial / safe_norm[:, None]
+    projector = _EYE[u.shape[1]] - sliding[:, None, None] * (direction[:, :, None] * direction[:, None, :])
+    tangent = np.asarray(k, dtype=float)[..., None] * scale[:, None, None] * projector
+    return ReturnMap(force, new_slip, direction, sliding, tangent)
 
 
 @attrs.frozen
@@ -110,26 +142,14 @@ class RegularizedCoulomb:
                     tangent = kscale * (_EYE[dims] - direction[:, :, None] * direction[:, None, :])
                 mu = np.asarray(mu, dtype=float)[..., None] if isinstance(mu, np.ndarray) else mu
                 return LawResponse(force, tangent, {"slip": u - force / k}, dforce_dnormal=mu * direction)
-        # No capacity: the force is identically zero, also at trial = 0 (which is not stick).
-        sliding = beyond | (capacity <= 0.0)
         if not isinstance(k, np.ndarray):
             k = np.asarray(k, dtype=float)[..., None]
-        if not sliding.any():
+        if not ((beyond | (capacity <= 0.0)).any()):
             tangent = np.empty((n, dims, dims))
             tangent[...] = k[..., None] * _EYE[dims]
             return LawResponse(trial, tangent, {"slip": slip}, dforce_dnormal=np.zeros((n, dims)))
         mu = np.asarray(mu, dtype=float)[..., None]
-        safe_norm = np.where(sliding & (trial_norm > 0.0), trial_norm, 1.0)
-        scale = np.where(sliding, capacity / safe_norm, 1.0)
-        force = trial * scale[:, None]
-        new_slip = np.where(sliding[:, None], u - force / k, slip)
-        direction = trial / safe_norm[:, None]
-        if dims == 1:  # direction is +-1 (or 0 without capacity): the projector is 1 - sliding
-            tangent = (k * scale[:, None] * np.where(sliding & (trial_norm > 0.0), 0.0, 1.0)[:, None])[..., None]
-        else:
-            outer = direction[:, :, None] * direction[:, None, :]
-            projector = _EYE[dims] - sliding[:, None, None] * outer
-            tangent = k[..., None] * scale[:, None, None] * projector
+        force, new_slip, direction, sliding, tangent = friction_return_map(k, u, slip, capacity)
         # F = mu N n on the slip surface; zero in stick and without contact (N <= 0).
         in_contact = sliding & (normal_force > 0.0)
         dforce_dnormal = np.where(in_contact[:, None], mu * direction, 0.0)

@@ -16,7 +16,7 @@ import numpy as np
 
 from bearingfw.parameters import ParameterError
 
-__all__ = ["respond_inputs"]
+__all__ = ["respond_inputs", "velocity_input"]
 
 _sum = np.add.reduce
 #: below this many connectors the normal forces are summed as Python floats
@@ -53,3 +53,16 @@ def respond_inputs(law, u, normal_force) -> tuple[np.ndarray, np.ndarray]:
             "finite number of newtons (compression > 0, uplift <= 0)"
         )
     return u, normal
+
+
+def velocity_input(law, velocity, u: np.ndarray) -> np.ndarray:
+    """``velocity`` (the trial velocity a law that ``uses_velocity`` is given) as a float array of
+    the shape of ``u``, or a :class:`~bearingfw.parameters.ParameterError` naming the law and the
+    argument (numpy would broadcast a wrong shape into a plausible answer)."""
+    velocity = np.asarray(velocity, dtype=float)
+    if velocity.shape != u.shape:
+        raise ParameterError(
+            f"law {law.name!r}: respond() argument 'velocity' must have the shape of 'u', {u.shape}, got shape "
+            f"{velocity.shape}"
+        )
+    return velocity

@@ -43,7 +43,7 @@ import attrs
 import numpy as np
 
 import bearingfw
-from bearingfw.laws import respond_inputs
+from bearingfw.laws import friction_return_map, respond_inputs, velocity_input
 from bearingfw.parameters import check_per_bearing
 
 #: The smallest friction coefficient accepted: a smaller positive one leaves a stick range
@@ -70,18 +70,6 @@ def _stiffness_parameter():
     )
 
 
-def _velocity_input(law, velocity, u: np.ndarray) -> np.ndarray:
-    """``velocity`` as a float array of the shape of ``u`` (numpy would broadcast a wrong one into
-    a plausible answer), or a :class:`bearingfw.ParameterError` naming the law and the argument."""
-    velocity = np.asarray(velocity, dtype=float)
-    if velocity.shape != u.shape:
-        raise bearingfw.ParameterError(
-            f"law {law.name!r}: respond() argument 'velocity' must have the shape of 'u', {u.shape}, got shape "
-            f"{velocity.shape}"
-        )
-    return velocity
-
-
 def pendulum_response(law, state, u, normal_force, mu, dmu_dvelocity=None) -> bearingfw.LawResponse:
     """The response of friction-pendulum law ``law`` (fields ``k``, ``R``, ``dims``) for the
     coefficients ``mu`` (n,) and, for a velocity-dependent coefficient, ``dmu_dvelocity`` (n, dims)."""
@@ -104,19 +92,10 @@ def pendulum_response(law, state, u, normal_force, mu, dmu_dvelocity=None) -> be
     capacity = mu * load
 
     slip = state["slip"]
-    trial = k0 * (u - slip)
-    trial_norm = np.sqrt(np.einsum("ij,ij->i", trial, trial))
-    # No capacity (mu = 0 or no contact): the friction part is identically zero, also at trial = 0.
-    sliding = (trial_norm > capacity) | (capacity <= 0.0)
-    safe_norm = np.where(sliding & (trial_norm > 0.0), trial_norm, 1.0)
-    scale = np.where(sliding, capacity / safe_norm, 1.0)
-    friction = trial * scale[:, None]
-    new_slip = np.where(sliding[:, None], u - friction / k0, slip)
+    # the friction part: regularized-coulomb's return map with stiffness k - N/R; then the pendulum's N/R
+    friction, new_slip, direction, sliding, friction_tangent = friction_return_map(k0, u, slip, capacity)
     force = friction + gravity[:, None] * u
-    direction = trial / safe_norm[:, None]
-    eye = np.eye(law.dims)
-    projector = eye - sliding[:, None, None] * np.einsum("ij,ik->ijk", direction, direction)
-    tangent = k0[..., None] * scale[:, None, None] * projector + gravity[:, None, None] * eye
+    tangent = friction_tangent + gravity[:, None, None] * np.eye(law.dims)
 
     slipping = sliding & contact
     sticking = ~sliding & contact
@@ -226,7 +205,7 @@ class VelocityFrictionPendulum(_PendulumBase):
         u, normal_force = respond_inputs(self, u, normal_force)
         n = u.shape[0]
         check_per_bearing(self, n)
-        velocity = np.zeros((n, self.dims)) if velocity is None else _velocity_input(self, velocity, u)
+        velocity = np.zeros((n, self.dims)) if velocity is None else velocity_input(self, velocity, u)
         speed = np.sqrt(np.einsum("ij,ij->i", velocity, velocity))
         a = _values(self.a)
         f_min, f_max = _values(self.f_min), _values(self.f_max)

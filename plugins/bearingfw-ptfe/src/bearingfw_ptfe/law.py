@@ -44,7 +44,7 @@ import attrs
 import numpy as np
 
 import bearingfw
-from bearingfw.laws import respond_inputs
+from bearingfw.laws import friction_return_map, respond_inputs, velocity_input
 from bearingfw.parameters import check_per_bearing
 
 
@@ -55,18 +55,6 @@ MIN_COEFFICIENT = 0.001
 def _values(value) -> np.ndarray:
     """A per-bearing parameter as a float array: shape () for a scalar, (n,) for an array."""
     return np.asarray(value, dtype=float)
-
-
-def _velocity_input(law, velocity, u: np.ndarray) -> np.ndarray:
-    """``velocity`` as a float array of the shape of ``u`` (numpy would broadcast a wrong one into
-    a plausible answer), or a :class:`bearingfw.ParameterError` naming the law and the argument."""
-    velocity = np.asarray(velocity, dtype=float)
-    if velocity.shape != u.shape:
-        raise bearingfw.ParameterError(
-            f"law {law.name!r}: respond() argument 'velocity' must have the shape of 'u', {u.shape}, got shape "
-            f"{velocity.shape}"
-        )
-    return velocity
 
 
 @attrs.frozen
@@ -191,7 +179,7 @@ class PTFEFriction:
             speed = np.zeros(n)
             velocity = np.zeros_like(u)
         else:
-            velocity = _velocity_input(self, velocity, u)
+            velocity = velocity_input(self, velocity, u)
             speed = np.sqrt(np.einsum("ij,ij->i", velocity, velocity))
         a = _values(self.a)
         f_min = _values(self.f_min)
@@ -201,18 +189,7 @@ class PTFEFriction:
         capacity = mu * contact_force
 
         # The return map of regularized-coulomb, with this call's capacity.
-        slip = state["slip"]
-        trial = k * (u - slip)
-        trial_norm = np.sqrt(np.einsum("ij,ij->i", trial, trial))
-        # No capacity: the force is identically zero, also at trial = 0 (which is not stick).
-        sliding = (trial_norm > capacity) | (capacity <= 0.0)
-        safe_norm = np.where(sliding & (trial_norm > 0.0), trial_norm, 1.0)
-        scale = np.where(sliding, capacity / safe_norm, 1.0)
-        force = trial * scale[:, None]
-        new_slip = np.where(sliding[:, None], u - force / k, slip)
-        direction = trial / safe_norm[:, None]
-        projector = np.eye(self.dims) - sliding[:, None, None] * np.einsum("ij,ik->ijk", direction, direction)
-        tangent = k[..., None] * scale[:, None, None] * projector
+        force, new_slip, direction, sliding, tangent = friction_return_map(k, u, state["slip"], capacity)
 
         # In slip F = mu(v, N) N n with n fixed by the trial force: the derivatives of mu N.
         slipping = sliding & (normal > 0.0)

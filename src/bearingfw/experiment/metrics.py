@@ -344,12 +344,27 @@ class CellResponse:
         return self.result.time
 
 
+#: Values within this fraction of the peak count as reaching it, for the peak's time and place.
+PLATEAU = 1e-12
+
+
 def _peak(values: np.ndarray, time: np.ndarray) -> tuple[float, float | None, tuple | None]:
-    """Largest value of ``values`` (time first axis), its time and index; NaN if all are NaN."""
+    """Largest value of ``values`` (time first axis), the first instant (and index) it is reached;
+    NaN if all are NaN.
+
+    "Reached" means within :data:`PLATEAU` of the peak: a force that saturates (a friction force at
+    ``mu N``, a Bouc-Wen force at its yield level) stays at its peak over a plateau, where the
+    largest sample is decided by round-off; its first instant is not."""
     if values.size == 0 or np.all(np.isnan(values)):
         return math.nan, None, None
-    k = np.unravel_index(int(np.nanargmax(values)), values.shape)
-    return float(values[k]), float(time[k[0]]), tuple(int(i) for i in k)
+    peak = float(np.nanmax(values))
+    if math.isfinite(peak):
+        with np.errstate(invalid="ignore"):  # NaN samples compare False: never the peak
+            first = int(np.argmax(values >= peak - PLATEAU * abs(peak)))  # C order: the earliest instant
+    else:
+        first = int(np.nanargmax(values))
+    k = np.unravel_index(first, values.shape)
+    return peak, float(time[k[0]]), tuple(int(i) for i in k)
 
 
 # ---- the built-in families' reductions -------------------------------------------------------------------

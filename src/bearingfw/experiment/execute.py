@@ -119,7 +119,11 @@ def _document(job: CellJob) -> dict:
 
 def _error(exc: BaseException) -> dict:
     text = "".join(traceback.format_exception(exc))
-    return {"type": type(exc).__name__, "message": str(exc), "traceback": text[-200 * TRACEBACK_LINES:]}
+    message = str(exc)
+    if isinstance(exc, SystemExit):  # str() is the bare exit code
+        message = (f"sys.exit({exc.code!r}) was called while the cell was computed (by a law, the structure's "
+                   "builder or a plugin; the traceback shows where): a cell's code must raise an exception instead")
+    return {"type": type(exc).__name__, "message": message, "traceback": text[-200 * TRACEBACK_LINES:]}
 
 
 def failed_outcome(job: CellJob, exc: BaseException, wall_time: float = 0.0) -> CellOutcome:
@@ -270,7 +274,8 @@ def compute_cell(job: CellJob) -> CellOutcome:
         try:
             with time_limit(experiment.run.cell_timeout):
                 _compute(job, document, kept)
-        except (Exception, CellTimeout) as exc:  # noqa: BLE001 - any failure of one cell is recorded, the others go on
+        # SystemExit too: a law calling sys.exit must fail its cell, not end the run (exit 0 with no results)
+        except (Exception, CellTimeout, SystemExit) as exc:  # noqa: BLE001 - any failure of one cell is recorded
             document["status"] = "failed"
             document["metrics"] = {}
             document["error"] = _error(exc)

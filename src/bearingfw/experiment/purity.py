@@ -8,8 +8,12 @@ committed: the run goes on to the end, with results off by any amount. The confo
 analysis, under the cell's time limit (:func:`law_purity_problems`, some milliseconds): for each
 law group, from the initial state and from the states after a few random steps, ``respond`` is
 called twice on the same state, and a fingerprint of that
-state (a hash of all its arrays) must not change, nor may the two answers differ. A cell whose
-law fails is recorded as failed (:class:`LawPurityError`), naming the law and its bearings.
+state (a hash of all its arrays) must not change, nor may the displacements and normal forces
+it was given, nor may the two answers differ. The first call, at zero displacement from the
+initial state, must also give no force (the protocol's "zero force at rest": every bearing starts
+the analysis at rest, and a force there is a load the dead-load state was not computed with). A
+cell whose law fails is recorded as failed (:class:`LawPurityError`), naming the law and its
+bearings.
 """
 
 from __future__ import annotations
@@ -64,10 +68,19 @@ def _feed(digest, value) -> None:
         digest.update(repr(value).encode())
 
 
+#: A force at rest up to this fraction of the forces of the random steps is round-off.
+AT_REST = 1e-12
+
+
 def _respond(group, state, u, normal, dt):
+    """``respond`` given ``u`` and ``normal`` themselves (the kernel's own arrays are what a law could
+    change), and whether it changed them."""
+    given = (u.copy(), normal.copy())
     if group.velocity:
-        return group.law.respond(state, u.copy(), normal.copy(), dt, velocity=np.zeros_like(u))
-    return group.law.respond(state, u.copy(), normal.copy(), dt)
+        response = group.law.respond(state, u, normal, dt, velocity=np.zeros_like(u))
+    else:
+        response = group.law.respond(state, u, normal, dt)
+    return response, not (np.array_equal(u, given[0]) and np.array_equal(normal, given[1]))
 
 
 def _same_answer(a, b) -> bool:
@@ -90,21 +103,37 @@ def law_purity_problems(system, model, dt: float, seed: int = 0) -> list[str]:
         normal = np.full(n, NORMAL_FORCE)
         try:
             state = law.initial_state(n)
+            at_rest, largest = None, 0.0
             for step in range(STEPS + 1):
                 u = rng.normal(scale=DISPLACEMENT, size=(n, group.dims)) if step else np.zeros((n, group.dims))
                 before = fingerprint(state)
-                first = _respond(group, state, u, normal, dt)
+                first, changed_inputs = _respond(group, state, u, normal.copy(), dt)
+                if changed_inputs:
+                    problems.append(f"{who} changed the displacements or normal forces it was given in respond (step "
+                                    f"{step} of the purity check): they are the solver's own arrays, and respond must "
+                                    "leave them untouched, or the analysis goes on from values nobody computed")
+                    break
                 if fingerprint(state) != before:
                     problems.append(f"{who} changed the committed state it was given in respond (step {step} of "
                                     "the purity check): respond must return a new state and leave its input "
                                     "untouched, or the solver's retries compound and the results are wrong")
                     break
-                second = _respond(group, state, u, normal, dt)
+                second, _ = _respond(group, state, u.copy(), normal.copy(), dt)
                 if not _same_answer(first, second):
                     problems.append(f"{who} answered the same respond call from the same state differently (step "
                                     f"{step} of the purity check): it keeps state outside its state argument")
                     break
+                force = np.abs(np.asarray(first.force, dtype=float))
+                if step:
+                    largest = max(largest, float(force.max(initial=0.0)))
+                else:
+                    at_rest = float(force.max(initial=0.0))
                 state = first.state
+            else:
+                if at_rest is not None and at_rest > AT_REST * largest:
+                    problems.append(f"{who} gives a force of {at_rest:.6g} N at zero displacement from its initial state "
+                                    f"(N = {NORMAL_FORCE:g} N): a law must give no force at rest (every bearing starts "
+                                    "the analysis at rest, and the dead-load state was computed without that force)")
         except Exception:  # noqa: BLE001 - a law that raises is the analysis's to report
             continue
     return problems

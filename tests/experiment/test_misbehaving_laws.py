@@ -106,3 +106,35 @@ def test_a_law_changing_the_displacements_it_is_given_is_named():
 def test_a_law_with_a_force_at_rest_is_named():
     (problem,) = _problems(_Offset())
     assert problem.startswith("law 'test-offset-spring' (bearings 1A, 1B) gives a force of 1000 N at zero displacement")
+
+
+class _Raising(_Spring):
+    name = "test-raising-spring"
+
+    def respond(self, state, u, normal_force, dt):
+        if np.any(np.abs(u) > 1e-9):
+            raise RuntimeError("boom")
+        return super().respond(state, u, normal_force, dt)
+
+
+def test_an_error_inside_a_law_names_the_law():
+    from bearingfw.model.connectors import ConnectorOperators
+
+    law = _Raising()
+    group = SimpleNamespace(law=law, n=2, velocity=False)
+    operators = SimpleNamespace(_calls=[(group, np.arange(2), (2, 1), np.arange(2))])
+    try:
+        ConnectorOperators.respond(operators, [{}], np.full(2, 1e-3), np.full(2, 1e5), 0.01)
+    except RuntimeError as exc:
+        assert str(exc) == "boom"  # the law's own exception, unchanged
+        assert exc.__notes__ == ["raised by law 'test-raising-spring' in respond() (a group of 2 connector(s))"]
+    else:
+        raise AssertionError("the law's error was swallowed")
+
+
+def test_a_cell_stopped_by_a_law_error_names_the_law(tmp_path):
+    spec = write_tiny(tmp_path / "spec", models=("boom",), levels=("D_0",))
+    summary = run_experiment(load_experiment(spec), tmp_path / "out", SerialExecutor())
+    (cell, message), = summary.failed
+    assert cell == "boom/tremor/D_0"
+    assert "raised by law 'test-exploding-spring' in respond()" in message

@@ -520,8 +520,9 @@ def _no_convergence(failed: _Failed, run: _Run, start: hht.State, report: _Repor
 def _stopped(exc: Exception, run: _Run, start: hht.State, report: _Report) -> TransientError:
     last = run.last if run.last is not None else start
     at = max(run.attempt, last.t)
+    notes = "".join(f" ({note})" for note in getattr(exc, "__notes__", ()))  # e.g. the law that raised
     message = (
-        f"solve_transient: stopped at t = {at:.6g} s by {type(exc).__name__}: {exc}; "
+        f"solve_transient: stopped at t = {at:.6g} s by {type(exc).__name__}: {exc}{notes}; "
         f"results kept up to t = {last.t:.6g} s"
     )
     return TransientError(message, at, last.t, (), float("nan"), report.partial(start, message))

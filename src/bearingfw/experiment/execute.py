@@ -119,7 +119,7 @@ def _document(job: CellJob) -> dict:
 
 def _error(exc: BaseException) -> dict:
     text = "".join(traceback.format_exception(exc))
-    message = str(exc)
+    message = str(exc) + "".join(f" ({note})" for note in getattr(exc, "__notes__", ()))  # e.g. the law that raised
     if isinstance(exc, SystemExit):  # str() is the bare exit code
         message = (f"sys.exit({exc.code!r}) was called while the cell was computed (by a law, the structure's "
                    "builder or a plugin; the traceback shows where): a cell's code must raise an exception instead")

@@ -460,11 +460,16 @@ class ConnectorOperators:
         out = []
         for (g, rows, shape, springs), state in zip(self._calls, states, strict=True):
             u = d[rows].reshape(shape)
-            if g.velocity:
-                v = np.zeros_like(u) if velocity is None else velocity[rows].reshape(shape)
-                response = g.law.respond(state, u, contact[springs], dt, velocity=v)
-            else:
-                response = g.law.respond(state, u, contact[springs], dt)
+            try:
+                if g.velocity:
+                    v = np.zeros_like(u) if velocity is None else velocity[rows].reshape(shape)
+                    response = g.law.respond(state, u, contact[springs], dt, velocity=v)
+                else:
+                    response = g.law.respond(state, u, contact[springs], dt)
+            except Exception as exc:  # the law's own error, kept as it is, with where it came from
+                exc.add_note(f"raised by law {getattr(g.law, 'name', type(g.law).__name__)!r} in respond() "
+                             f"(a group of {g.n} connector(s))")
+                raise
             _check_response(g, response, shape)
             out.append(response)
         return out

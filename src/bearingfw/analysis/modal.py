@@ -67,6 +67,7 @@ __all__ = [
     "ModalResult",
     "solve_modal",
     "eigen",
+    "TooManyModes",
     "initial_tangent",
     "participation",
     "movable_mass",
@@ -90,6 +91,14 @@ DENSE_LIMIT = 100
 _INFINITE = {"dense": 1e-12, "sparse": 1e-9}
 
 
+class TooManyModes(ModelError):
+    """More modes were asked for than the model has DOFs with mass (``available``)."""
+
+    def __init__(self, message: str, available: int):
+        super().__init__(message)
+        self.available = available
+
+
 def eigen(K, M, n_modes: int, *, shift: float = DEFAULT_SHIFT, method: str = "auto") -> tuple[np.ndarray, np.ndarray]:
     """Lowest ``n_modes`` eigenpairs of ``K phi = lambda M phi``: (lambda ascending, M-normalised phi).
 
@@ -103,7 +112,8 @@ def eigen(K, M, n_modes: int, *, shift: float = DEFAULT_SHIFT, method: str = "au
         raise ModelError(f"eigen: method must be 'auto', 'dense' or 'sparse', got {method!r}")
     massive = int(np.count_nonzero(np.abs(M.diagonal()) > 0))
     if not 1 <= n_modes <= massive:
-        raise ModelError(f"asked for {n_modes} modes; the model has {massive} DOFs with mass (at most that many modes)")
+        raise TooManyModes(f"asked for {n_modes} modes; the model has {massive} DOFs with mass (at most that many modes)",
+                           massive)
     dense = method == "dense" or (method == "auto" and (n <= DENSE_LIMIT or n_modes >= n - 1))
     if dense:
         Kd, Md = (np.asarray(A.todense()) if sp.issparse(A) else np.asarray(A) for A in (K, M))

@@ -146,6 +146,7 @@ def structure_modal_data(
     import numpy as np
 
     from bearingfw.analysis import solve_modal
+    from bearingfw.analysis.modal import TooManyModes
     from bearingfw.model import COMPONENTS
     from bearingfw.structures import build_structure
 
@@ -153,7 +154,11 @@ def structure_modal_data(
         raise ParameterError(f"--modes must be an integer >= 1, got {n_modes!r}")
     # check: a value the bearing laws refuse is an error here, put on the option that gave it
     model = build_structure(spec, options or {}, base_dir=base_dir, check=True, origins=origins)
-    modal = solve_modal(model, n_modes)
+    try:
+        modal = solve_modal(model, n_modes)
+    except TooManyModes as exc:
+        raise ParameterError(f"--modes {n_modes} (the default is 20) is more than this structure has: it has "
+                             f"{exc.available} DOFs with mass, so give --modes {exc.available} or fewer") from None
     energy = modal.shapes * (modal.system.M @ modal.shapes)
     per_component = np.array([energy[k::len(COMPONENTS)].sum(axis=0) for k in range(len(COMPONENTS))])
     per_component /= np.where(per_component.sum(axis=0) > 0, per_component.sum(axis=0), 1.0)

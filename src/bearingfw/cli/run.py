@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
+import os
 import sys
 import textwrap
 
@@ -144,6 +146,29 @@ def _experiment(args):
     return experiment
 
 
+@contextlib.contextmanager
+def _stdout_to_stderr():
+    """While the study runs, what its code prints (a structure builder's or a law's print) goes to
+    stderr, so that ``--json`` leaves the JSON alone on stdout: at the file descriptor too, which
+    the worker processes inherit, where stdout is a real file."""
+    sys.stdout.flush()
+    try:
+        out, err = sys.stdout.fileno(), sys.stderr.fileno()
+    except (AttributeError, OSError, ValueError):  # not a file (e.g. captured): the Python level only
+        with contextlib.redirect_stdout(sys.stderr):
+            yield
+        return
+    saved = os.dup(out)
+    try:
+        os.dup2(err, out)
+        with contextlib.redirect_stdout(sys.stderr):
+            yield
+    finally:
+        sys.stderr.flush()
+        os.dup2(saved, out)
+        os.close(saved)
+
+
 def _print_results(summary, out) -> None:
     from bearingfw.experiment import format_tables
 
@@ -183,25 +208,27 @@ def run(args) -> int:
     if args.print_default:
         sys.stdout.write(DEFAULT_TOML)
         return OK
-    try:
-        experiment = _experiment(args)
-        name = args.executor or ("dask" if args.scheduler else "processes")
-        registry = registry_for(experiment.plugins, import_paths(experiment))  # the experiment's plugins too
-        executor = make_executor(name, args.workers, args.scheduler, registry)
-        progress = Progress(quiet=args.quiet)
-        summary = run_experiment(
-            experiment, args.out, executor, force=args.force, models=tuple(args.only or ()),
-            intensities=tuple(args.levels or ()), progress=progress, take_over=args.take_over,
-        )
-    except KeyboardInterrupt:
-        print("\nbearingfw run: interrupted; finished cells are kept, run again to continue", file=sys.stderr)
-        return INTERRUPTED
-    except ExecutorUnavailable as exc:
-        print(f"bearingfw run: error: {exc}", file=sys.stderr)
-        return ENVIRONMENT
-    except (ParameterError, ExecutorError, StoreError) as exc:
-        print(f"bearingfw run: error: {exc}", file=sys.stderr)
-        return ERROR
+    # what the study's code prints (a builder's print) must not mix into --json's stdout
+    with _stdout_to_stderr() if args.json else contextlib.nullcontext():
+        try:
+            experiment = _experiment(args)
+            name = args.executor or ("dask" if args.scheduler else "processes")
+            registry = registry_for(experiment.plugins, import_paths(experiment))  # the experiment's plugins too
+            executor = make_executor(name, args.workers, args.scheduler, registry)
+            progress = Progress(quiet=args.quiet)
+            summary = run_experiment(
+                experiment, args.out, executor, force=args.force, models=tuple(args.only or ()),
+                intensities=tuple(args.levels or ()), progress=progress, take_over=args.take_over,
+            )
+        except KeyboardInterrupt:
+            print("\nbearingfw run: interrupted; finished cells are kept, run again to continue", file=sys.stderr)
+            return INTERRUPTED
+        except ExecutorUnavailable as exc:
+            print(f"bearingfw run: error: {exc}", file=sys.stderr)
+            return ENVIRONMENT
+        except (ParameterError, ExecutorError, StoreError) as exc:
+            print(f"bearingfw run: error: {exc}", file=sys.stderr)
+            return ERROR
     if not args.quiet:
         _print_results(summary, sys.stderr if args.json else sys.stdout)
     if args.json:

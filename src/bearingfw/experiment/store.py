@@ -325,7 +325,8 @@ class Store:
     def write_histories(self, cell_id: str, histories: Mapping[str, np.ndarray], meta: dict) -> tuple[Path, str]:
         """Write a cell's histories file; its path and the SHA-256 of its bytes."""
         buffer = io.BytesIO()
-        arrays = {k: np.asarray(v, dtype=np.float32) for k, v in histories.items()}
+        with np.errstate(over="ignore"):  # beyond float32's range is inf (the cell's checks judge the values)
+            arrays = {k: np.asarray(v, dtype=np.float32) for k, v in histories.items()}
         np.savez_compressed(buffer, meta=np.array(json.dumps(jsonable(meta))), **arrays)
         data = buffer.getvalue()
         return atomic_write(self.cell_npz(cell_id), data), hashlib.sha256(data).hexdigest()

@@ -210,6 +210,7 @@ def test_failure_names_time_connectors_residual_and_keeps_the_results(test_laws)
     assert 0.0 < err.last_converged < err.time < 3.0
     assert err.residual == np.inf  # a non-finite law force
     assert f"t = {err.time:.6g} s" in str(err) and "c2" in str(err)
+    assert "connectors still moving: c2 (law 'test-brittle-spring')" in str(err)  # the law is named too
     res = err.result
     assert not res.completed and res.message == str(err)
     # everything up to the last converged instant is kept, the final partial instant included

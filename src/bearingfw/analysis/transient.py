@@ -503,6 +503,8 @@ class _Report:
 def _no_convergence(failed: _Failed, run: _Run, start: hht.State, report: _Report) -> TransientError:
     last = run.last if run.last is not None else start
     names = _connector_names(run.system, failed.failure.rows)
+    model = run.system.model
+    laws = sorted({str(model.connector(name).law) for name in names if model.connector(name).law})
     halvings = report.settings.max_halvings
     how = (
         f"with the step halved {halvings} times, to {failed.t1 - failed.state.t:.3g} s"
@@ -511,7 +513,8 @@ def _no_convergence(failed: _Failed, run: _Run, start: hht.State, report: _Repor
     )
     message = (
         f"solve_transient: no convergence at t = {failed.t1:.6g} s ({failed.failure.reason} {how}); "
-        f"connectors still moving: {', '.join(names) or 'none'}; relative force residual "
+        f"connectors still moving: {', '.join(names) or 'none'}"
+        f"{' (law ' + ', '.join(repr(law) for law in laws) + ')' if laws else ''}; relative force residual "
         f"{failed.failure.residual:.3g}; results kept up to t = {last.t:.6g} s"
     )
     return TransientError(message, failed.t1, last.t, names, failed.failure.residual, report.partial(start, message))

@@ -138,3 +138,17 @@ def test_a_cell_stopped_by_a_law_error_names_the_law(tmp_path):
     (cell, message), = summary.failed
     assert cell == "boom/tremor/D_0"
     assert "raised by law 'test-exploding-spring' in respond()" in message
+
+
+def test_a_complex_force_is_refused_naming_the_law():
+    import pytest
+
+    from bearingfw.model import ModelError
+    from bearingfw.model.connectors import _check_response
+
+    group = SimpleNamespace(law=_Spring(), n=2, dims=1, coupling=False, velocity=False)
+    sound = _Spring().respond({}, np.full((2, 1), 1e-3), np.full(2, 1e5), 0.01)
+    _check_response(group, sound)
+    _check_response(group, LawResponse(sound.force.astype(int), sound.tangent, {}))  # integers are real numbers
+    with pytest.raises(ModelError, match=r"law 'test-spring': respond\(\) returned 'force' of dtype complex128"):
+        _check_response(group, LawResponse(sound.force + 0j, sound.tangent, {}))

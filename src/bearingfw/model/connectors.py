@@ -563,6 +563,8 @@ def _check_response(g: LawGroup, response, shape: tuple | None = None) -> None:
         and type(tangent) is np.ndarray
         and force.shape == shape
         and tangent.shape == (n, dims, dims)
+        and force.dtype.kind == "f"
+        and tangent.dtype.kind == "f"
         and (not g.coupling or _has_shape(response.dforce_dnormal, (n, dims)))
         and (not g.velocity or _has_shape(response.dforce_dvelocity, (n, dims, dims)))
     ):
@@ -583,6 +585,13 @@ def _check_response(g: LawGroup, response, shape: tuple | None = None) -> None:
             raise ModelError(
                 f"law {getattr(g.law, 'name', type(g.law).__name__)!r}: respond() returned {field!r} of shape {got} "
                 f"for {n} connector(s) with dims = {dims}; it must have shape {expected}"
+            )
+    for field in ("force", "tangent"):  # a complex or object array would be cast, or warn, far from the law
+        kind = np.asarray(getattr(response, field)).dtype.kind
+        if kind not in "fiu":
+            raise ModelError(
+                f"law {getattr(g.law, 'name', type(g.law).__name__)!r}: respond() returned {field!r} of dtype "
+                f"{np.asarray(getattr(response, field)).dtype}; it must hold real numbers (float)"
             )
 
 

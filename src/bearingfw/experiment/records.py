@@ -77,7 +77,7 @@ from bearingfw.motion import (
     scale_record,
     synthetic_tremor,
 )
-from bearingfw.motion.metrics import arias_intensity, dominant_frequency, peak
+from bearingfw.motion.metrics import arias_intensity, dominant_frequency, has_horizontal_motion, peak
 from bearingfw.motion.spatial import COHERENCY_MODELS, SpatialVariation, delays, spatial_motions
 from bearingfw.parameters import ParameterError, choice, integer_parameter, parameter
 from bearingfw.plugins import Registry
@@ -87,6 +87,7 @@ __all__ = [
     "SpatialGround",
     "SpatialSpec",
     "ground_acceleration",
+    "check_length",
     "ground_motion",
     "load_record",
     "record_info",
@@ -114,7 +115,62 @@ def record_mapping(spec: RecordSpec) -> dict[str, str] | None:
 def load_record(experiment: Experiment, spec: RecordSpec, registry: Registry | None = None) -> Record:
     """The record as read, mapped or generated, before any resampling and scaling. For an entry with
     ``spatial``, the table is checked and its per-group records read (errors name the key), and the
-    record's notes say how the motion varies between supports."""
+    record's notes say how the motion varies between supports.
+
+    Refused (:class:`SpecError` naming ``records.<name>``), so that no cell runs to fail: a record
+    with fewer than 2 samples at ``[integration] dt_integration``, and a record with no horizontal
+    motion (only ``z``) in a study with an intensity other than ``as-recorded`` (every scaling
+    measure is of the horizontals)."""
+    record = _loaded(experiment, spec, registry)
+    where = key_path("records", spec.name)
+    dt_integration = experiment.integration.dt_integration
+    try:
+        check_length(record, dt_integration)
+    except ParameterError as exc:
+        raise SpecError(f"{where}: {exc}") from None
+    _check_scalable(experiment, record, where)
+    return record
+
+
+def check_length(record: Record, dt_integration: float | None) -> None:
+    """Refuse a record that gives fewer than 2 samples when resampled to ``dt_integration`` (s): it
+    lasts less than one integration step (ParameterError naming ``integration.dt_integration``)."""
+    if dt_integration is None or _divides(dt_integration, record.dt):
+        return  # no resampling: the record keeps its own samples (at least 2)
+    # Resampling gives ceil(n dt / dt_integration) samples (bearingfw.motion.record.resample).
+    samples = math.ceil(round(record.n * record.dt / dt_integration, 9))
+    if samples < 2:
+        raise ParameterError(
+            f"the record lasts {record.duration:.4g} s ({record.n} samples at dt = {record.dt:g} s), which gives "
+            f"{samples} sample(s) at integration.dt_integration = {dt_integration:g} s, fewer than the 2 a time "
+            f"history needs; use a dt_integration below {record.n * record.dt:g} s (one that divides the record's "
+            f"dt = {record.dt:g} s keeps every sample) or a longer record"
+        )
+
+
+def _check_scalable(experiment: Experiment, record: Record, where: str) -> None:
+    """A record without horizontal motion can only be used as recorded (module docstring of
+    :mod:`bearingfw.motion.scaling`: PGA_H10, PGA and Sa all measure the horizontals)."""
+    if has_horizontal_motion(record):
+        return
+    scaled = [i for i in experiment.intensity_list if i.target.kind != "as-recorded"]
+    if not scaled:
+        return
+    names = ", ".join(i.name for i in scaled)
+    raise SpecError(
+        f"{where}: the record has no horizontal motion (x and y are zero everywhere{_only_vertical(record)}), so its "
+        f"PGA_H10, PGA, Sa and t_Ha are zero or undefined and it cannot be scaled to the intensities {names}: a "
+        "level (D_0 .. D_IV) and pga_h10, pga and sa targets all measure the horizontal motion. Use "
+        '[intensities] levels = ["as-recorded"] for a vertical-only record, or give it a horizontal component '
+        "(x or y)"
+    )
+
+
+def _only_vertical(record: Record) -> str:
+    return ": only z is given" if record.directional and record.missing_directions == ("x", "y") else ""
+
+
+def _loaded(experiment: Experiment, spec: RecordSpec, registry: Registry | None) -> Record:
     record = _read_record(experiment, spec, registry)
     sp = spatial_spec(spec)
     if sp is None:
@@ -178,6 +234,7 @@ def scaled_record(
     that leaves a component less than ``min_peak_ratio`` of its peak is refused (None: never).
     """
     if dt_integration is not None and not _divides(dt_integration, record.dt):
+        check_length(record, dt_integration)
         before = record.dt
         record = record.resampled(dt_integration)
         if min_peak_ratio is not None and record.min_peak_ratio < min_peak_ratio:
@@ -367,7 +424,7 @@ def _group_record(experiment: Experiment, spec: RecordSpec, group: str, registry
     sub = spatial_spec(spec).motions[group]
     where = key_path("records", spec.name, "spatial", "motions", group)
     try:
-        return load_record(experiment, sub, registry)
+        return _loaded(experiment, sub, registry)
     except SpecError:
         raise
     except (ValueError, KeyError, OSError, RuntimeError) as exc:
@@ -536,7 +593,8 @@ def record_readers(experiment: Experiment, spec: RecordSpec, registry: Registry 
 
 def record_info(record: Record, components: tuple[str, str, str] | None = None, scale=None) -> dict:
     """A record's measures for the report: PGA_H10, t_Ha, Arias intensity, degree,
-    peaks, dominant frequencies, which component goes where and, after scaling, the target."""
+    peaks, dominant frequencies, which component goes where and, after scaling, the target.
+    For a record with no horizontal motion t_Ha is NaN and the degree None (undefined)."""
     scale = scale or get_scale()
     if record.directional or components is None:
         axes = {axis: role for axis, role in zip(AXES, ROLES)}

@@ -135,8 +135,10 @@ def _inputs(data: ReportData) -> list[str]:
     rows = []
     for name, r in data.records.items():
         axes = ", ".join(f"{axis} = {role}" for axis, role in r["axes"].items())
-        rows.append((name, r["source"], _g(r["dt"]), f"{r['duration']:.2f}", _g(r["pga_h10"]), f"{r['t_ha']:.2f}",
-                     _g(r["arias"]), r["degree"], axes))
+        # t_Ha and the degree are undefined (NaN/None) for a record with no horizontal motion.
+        t_ha = "undefined" if r["t_ha"] is None or not math.isfinite(r["t_ha"]) else f"{r['t_ha']:.2f}"
+        rows.append((name, r["source"], _g(r["dt"]), f"{r['duration']:.2f}", _g(r["pga_h10"]), t_ha,
+                     _g(r["arias"]), r["degree"] or "undefined (no horizontal motion)", axes))
     lines += _table(["record", "source", "dt [s]", "duration [s]", "PGA_H10 [m/s²]", "t_Ha [s]", "Arias [m/s]",
                      "degree", "applied as"], rows)
     for name, r in data.records.items():
@@ -153,7 +155,7 @@ def _inputs(data: ReportData) -> list[str]:
         row = [i.name, _g(i.pga_h10) if levels else i.target.describe()]
         for r in data.records.values():
             m = r["intensities"].get(i.name, {})
-            row.append(f"error: {m['error']}" if "error" in m else f"{m['scale_factor']:.4g}, {m['degree']}")
+            row.append(f"error: {m['error']}" if "error" in m else f"{m['scale_factor']:.4g}, {m['degree'] or 'undefined'}")
         rows.append(row)
     lines += _table(header, rows)
     rayleigh = data.rayleigh

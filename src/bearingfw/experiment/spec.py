@@ -822,6 +822,8 @@ def from_table(cls, table: Any, path: str, **fixed):
 
 def parse_experiment(text: str, base_dir: str | Path | None = None, origin: str = "<string>") -> Experiment:
     """An :class:`Experiment` from TOML text; relative paths start at ``base_dir`` (default: cwd)."""
+    # Windows editors (Notepad) save UTF-8 with a byte-order mark, which TOML does not allow.
+    text = text.removeprefix("\ufeff")
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

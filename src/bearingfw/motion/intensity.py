@@ -25,7 +25,7 @@ from typing import Any
 import attrs
 
 from bearingfw.motion.errors import IntensityMismatchError, UnknownScaleError
-from bearingfw.motion.metrics import record_pga_h10, record_t_ha
+from bearingfw.motion.metrics import has_horizontal_motion, record_pga_h10, record_t_ha
 from bearingfw.motion.record import Record
 from bearingfw.parameters import ParameterError
 from bearingfw.plugins.contracts import IntensityScale
@@ -173,8 +173,11 @@ def get_scale(name: str | None = None, registry=None) -> IntensityScale:
         raise UnknownScaleError(f"unknown intensity scale {name!r}; known scales: {known}") from None
 
 
-def record_degree(record: Record, scale: IntensityScale | None = None) -> str:
-    """The degree of a record on ``scale`` (default :data:`DEFAULT_SCALE`) from its PGA_H10 and t_Ha."""
+def record_degree(record: Record, scale: IntensityScale | None = None) -> str | None:
+    """The degree of a record on ``scale`` (default :data:`DEFAULT_SCALE`) from its PGA_H10 and t_Ha;
+    None (undefined) for a record with no horizontal motion, whose t_Ha is undefined."""
+    if not has_horizontal_motion(record):
+        return None
     scale = scale or DEFAULT_SCALE
     return scale.degree(record_pga_h10(record), record_t_ha(record))
 
@@ -190,7 +193,10 @@ def scale_to_pga_h10(record: Record, target: float) -> Record:
         raise ParameterError(f"target PGA_H10 must be finite and > 0 m/s^2, got {target!r}")
     current = record_pga_h10(record)
     if current <= 0:
-        raise ParameterError(f"{record.title}: PGA_H10 is zero (no horizontal motion), it cannot be scaled")
+        raise ParameterError(
+            f"{record.title}: PGA_H10 is zero (no horizontal motion), it cannot be scaled to a PGA_H10; a record "
+            "with no horizontal motion can only be used as recorded"
+        )
     return record.scaled(target / current, target_pga_h10=target)
 
 

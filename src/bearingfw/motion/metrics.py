@@ -27,6 +27,7 @@ __all__ = [
     "band_energy_fraction",
     "dominant_frequency",
     "fourier_spectrum",
+    "has_horizontal_motion",
     "husid",
     "lowpass",
     "peak",
@@ -381,13 +382,22 @@ def response_spectrum(acc, dt: float, periods=None, damping: float = DEFAULT_DAM
 # -- the same measures for a Record -----------------------------------------------------------
 
 
+def has_horizontal_motion(record: Record) -> bool:
+    """False for a record whose horizontals are zero everywhere (a vertical-only record): its t_Ha,
+    intensity degree and every horizontal scaling measure are then undefined."""
+    return bool(np.any(record.h1) or np.any(record.h2))
+
+
 def record_pga_h10(record: Record) -> float:
     """PGA_H10 (m/s^2) of a record (:func:`pga_h10` of its horizontals)."""
     return pga_h10(record.h1, record.h2, record.dt)
 
 
 def record_t_ha(record: Record) -> float:
-    """t_Ha (s) of a record (:func:`t_ha` of its horizontals)."""
+    """t_Ha (s) of a record (:func:`t_ha` of its horizontals); NaN (undefined) for a record with no
+    horizontal motion (:func:`has_horizontal_motion`), which is a valid record, not an error."""
+    if not has_horizontal_motion(record):
+        return math.nan
     return t_ha(record.h1, record.h2, record.dt)
 
 
@@ -398,7 +408,8 @@ def record_summary(record: Record, periods=SUMMARY_PERIODS, damping: float = DEF
     component was resampled), and ``pga_before_resampling``, its peak as read from its file
     (times any scale factor): band-limited resampling changes peaks. ``response_spectrum``:
     pseudo-spectral accelerations (m/s^2) at ``periods`` for ``damping``. ``pga_h10_filter``
-    describes the PGA_H10 low-pass.
+    describes the PGA_H10 low-pass. ``t_ha`` is None (undefined) for a record with no horizontal
+    motion; its ``pga_h10`` and horizontal ``arias`` are then 0.
     """
     before = record.metadata.get("peaks_before_resampling")
     spectra = {role: response_spectrum(values, record.dt, periods, damping) for role, values in zip(ROLES, record.components)}
@@ -424,7 +435,7 @@ def record_summary(record: Record, periods=SUMMARY_PERIODS, damping: float = DEF
     return {
         "pga_h10": record_pga_h10(record),
         "pga_h10_filter": H10_FILTER.to_dict(),
-        "t_ha": record_t_ha(record),
+        "t_ha": record_t_ha(record) if has_horizontal_motion(record) else None,
         "arias": arias_intensity(record.horizontal, record.dt),
         "pga": {c["role"]: c["pga"] for c in components},
         "components": components,

@@ -38,6 +38,7 @@ __all__ = [
     "MAX_DURATION",
     "MAX_SAMPLES",
     "STEP_RTOL",
+    "TIME_UNITS",
     "find_reader",
     "read_at2",
     "read_columns",
@@ -60,6 +61,14 @@ MAX_DURATION = 86_400.0
 #: Largest ground acceleration a file may hold (m/s^2): 100 g, some twenty times the strongest
 #: recorded. Beyond it a value is a unit mistake or junk, and would overflow the Arias intensity.
 MAX_ACCELERATION = 100.0 * G
+#: Units a time column or a time step may be stated in (case ignored), in seconds. Nothing else:
+#: a record sampled in minutes is not a record, and an unknown unit read as seconds would scale
+#: every time (and so every frequency) silently.
+TIME_UNITS = {
+    "s": 1.0, "sec": 1.0, "secs": 1.0, "second": 1.0, "seconds": 1.0,
+    "ms": 1e-3, "msec": 1e-3, "millisecond": 1e-3, "milliseconds": 1e-3,
+}
+_TIME_UNITS_ALLOWED = "s (sec, seconds) or ms (msec, milliseconds)"
 
 
 # -- text and numbers -------------------------------------------------------------------------
@@ -164,6 +173,29 @@ class _Stated(NamedTuple):
     line: int | None = None  # None in an archive, which has no lines
 
 
+def _time_factor(unit: str, path: Path, line: int | None, what: str) -> float:
+    """Seconds per ``unit`` (one of TIME_UNITS; a trailing period as in "SEC." is dropped)."""
+    factor = TIME_UNITS.get(unit.strip().rstrip(".").lower())
+    if factor is None:
+        raise RecordFormatError(
+            path, line, f"{what}: {unit.strip()!r} is not a time unit; allowed: {_TIME_UNITS_ALLOWED}"
+        )
+    return factor
+
+
+# A time step with an optional unit: "0.01", "0.01 s", "10 ms", "1.0E-02SEC".
+_STEP_WITH_UNIT = re.compile(rf"\s*(?P<number>{_NUMBER})\s*(?P<unit>[^\d\s].*?)?\s*", re.IGNORECASE | re.ASCII)
+
+
+def _step_in_seconds(text: str, path: Path, line: int | None, what: str) -> float:
+    """A stated time step in seconds: a number, optionally followed by a time unit (default s)."""
+    found = _STEP_WITH_UNIT.fullmatch(text)
+    if not found:
+        raise RecordFormatError(path, line, f"{what}: {text.strip()!r} is not a time step (a number, e.g. 0.01 or 10 ms)")
+    value = _number(found["number"], path, line)
+    return value * (_time_factor(found["unit"], path, line, what) if found["unit"] else 1.0)
+
+
 def _resolve_dt(
     path: Path, stated: Sequence[_Stated], given: float | None, missing: str, line: int | None = None
 ) -> float:
@@ -229,7 +261,10 @@ def _time_step(times: np.ndarray) -> tuple[float, int | None, str]:
 
 # -- PEER NGA .AT2 ----------------------------------------------------------------------------
 
-_NEW_HEADER = re.compile(r"NPTS\s*=\s*(?P<npts>\S+?)\s*,\s*DT\s*=\s*(?P<dt>\S+)", re.IGNORECASE)
+# The time step's unit, if any, follows it ("DT= .0100 SEC"); read by _step_in_seconds.
+_NEW_HEADER = re.compile(
+    r"NPTS\s*=\s*(?P<npts>\S+?)\s*,\s*DT\s*=\s*(?P<dt>[^\s,]+(?:\s*[A-Za-z]+\b\.?)?)", re.IGNORECASE
+)
 _OLD_HEADER = re.compile(r"^\s*(?P<npts>\S+)\s+(?P<dt>\S+)\s+NPTS\s*,\s*DT", re.IGNORECASE)
 # "UNITS OF G", "units: cm/s^2", "UNITS = G." (punctuation is stripped by normalize_units) ...
 _UNITS_WORD = re.compile(r"\bUNITS?\b\s*(?:OF\b|IN\b|[:=])?\s*(?P<units>[^\s,;]+)", re.IGNORECASE)
@@ -281,7 +316,7 @@ def read_at2(path: str | Path, *, dt: float | None = None, units: str | None = N
     if npts_value != int(npts_value) or npts_value < 2:
         raise RecordFormatError(path, 4, f"NPTS = {match['npts']} must be a whole number >= 2")
     npts = int(npts_value)
-    header_dt = _checked_dt(_number(match["dt"], path, 4), path, 4, "DT")
+    header_dt = _checked_dt(_step_in_seconds(match["dt"], path, 4, "DT"), path, 4, "DT")
     file_dt = _resolve_dt(path, [_Stated(header_dt, "the header (DT)", 4)], dt, "")
     _check_extent(path, npts, file_dt, 4)
     stated_units = _at2_units(lines[2])
@@ -313,9 +348,21 @@ def read_at2(path: str | Path, *, dt: float | None = None, units: str | None = N
 
 # -- columns (CSV, whitespace) ----------------------------------------------------------------
 
-_TIME_NAME = re.compile(r"^\s*(t|time)\b", re.IGNORECASE)
+# "t", "time", and with a unit: "time [ms]", "t (s)", "time ms", "time_ms" (not "t1", "timestamp").
+_TIME_NAME = re.compile(r"^\s*(?:t|time)(?![A-Za-z0-9])(?P<rest>.*)$", re.IGNORECASE)
+# What may stand between a time column's name and an unbracketed unit: "time ms", "t/s", "time in s".
+_UNIT_LEAD = re.compile(r"^[\s_:/-]*(?:in\s+)?", re.IGNORECASE)
 _COMMENT_KEY = re.compile(r"^[#%]\s*(?P<key>units?|dt)\s*[:=]\s*(?P<value>.+?)\s*$", re.IGNORECASE)
 _DECIMAL_COMMA = re.compile(r"^[+-]?\d*,\d+(?:[EeDd][+-]?\d+)?$", re.ASCII)
+
+
+def _time_column_factor(name: str, path: Path, line: int) -> float:
+    """Seconds per unit of the time column named ``name`` ("time [ms]", "t (s)", "time ms"): the
+    unit in brackets, else the words after t/time; none is seconds. Any other unit is an error."""
+    rest = _TIME_NAME.match(name)["rest"]
+    bracket = _BRACKETED_UNIT.search(rest)
+    unit = bracket[1] if bracket else rest[_UNIT_LEAD.match(rest).end():].strip()
+    return _time_factor(unit, path, line, f"the time column {name!r}") if unit else 1.0
 
 
 def _delimiter(line: str) -> str | None:
@@ -350,12 +397,14 @@ def _row(cells: list[str], delimiter: str | None, path: Path, line: int) -> list
 def read_columns(path: str | Path, *, dt: float | None = None, units: str | None = None) -> list[Trace]:
     """Components from a text file with one column per component (CSV, ``;``, tab or spaces).
 
-    Lines starting with ``#`` or ``%`` are comments; ``# units: g`` and ``# dt: 0.01`` are
-    understood. An optional first row of column names (no cell of it a number) may carry units
-    (``ax [g]``, ``a_ew (m/s^2)``). With ``;`` or tab between cells, ``1,5`` is read as 1.5; a
-    trailing delimiter is ignored. The first column is a time column if its name is
-    ``t``/``time...`` or, in a file without names, if it increases from row to row (at least 3
-    rows; it must then increase in equal steps). Every other column is one acceleration
+    Lines starting with ``#`` or ``%`` are comments; ``# units: g`` and ``# dt: 0.01`` (or
+    ``# dt: 10 ms``) are understood. An optional first row of column names (no cell of it a
+    number) may carry units (``ax [g]``, ``a_ew (m/s^2)``). With ``;`` or tab between cells,
+    ``1,5`` is read as 1.5; a trailing delimiter is ignored. The first column is a time column if
+    its name is ``t``/``time``, optionally with a unit among :data:`TIME_UNITS` (``time [ms]``,
+    ``t (s)``; seconds if none, an error if another), or, in a file without names, if it
+    increases from row to row (at least 3 rows; seconds; it must then increase in equal steps).
+    Every other column is one acceleration
     component, in file order. ``dt`` and ``units`` are used only when the file states neither a
     time column nor a ``# dt`` (resp. no units), and must agree with the file otherwise.
     """
@@ -404,6 +453,8 @@ def read_columns(path: str | Path, *, dt: float | None = None, units: str | None
         what = "the first column (increasing, so taken for time; a header row naming the columns says otherwise)"
     stated_dt = []
     if has_time:
+        if header:
+            data[:, 0] *= _time_column_factor(names[0], path, header[1])
         step, bad, problem = _time_step(data[:, 0])
         if bad is not None:
             raise RecordFormatError(path, rows[bad][0], f"{what}: {problem}")
@@ -413,7 +464,7 @@ def read_columns(path: str | Path, *, dt: float | None = None, units: str | None
             raise RecordFormatError(path, rows[0][0], "only a time column, no acceleration columns")
     if "dt" in comments:
         comment = comments["dt"]
-        value = _checked_dt(_number(comment.value, path, comment.line), path, comment.line, comment.what)
+        value = _checked_dt(_step_in_seconds(comment.value, path, comment.line, comment.what), path, comment.line, comment.what)
         stated_dt.append(comment._replace(value=value))
     file_dt = _resolve_dt(
         path, stated_dt, dt, "no time column and no dt: give dt (--dt) or a '# dt: <s>' comment", line=rows[0][0]

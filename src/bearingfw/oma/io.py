@@ -428,7 +428,7 @@ def read_modes(path) -> IdentifiedModes:
     except OSError as exc:
         raise ParameterError(f"{path}: cannot read the file ({exc.strerror or exc})") from None
     try:
-        text = raw.decode("utf-8")
+        text = raw.decode("utf-8-sig")  # a leading BOM (Windows editors) is not content
     except UnicodeDecodeError as exc:
         line = raw.count(b"\n", 0, exc.start) + 1
         raise ParameterError(

@@ -248,7 +248,7 @@ def read_measured(path) -> MeasuredModes:
     """Read a measured-modes file (module docstring): TOML if it ends in ``.toml``, else JSON."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")  # a leading BOM (Windows editors) is not content
     except UnicodeDecodeError as exc:
         line = path.read_bytes()[: exc.start].count(b"\n") + 1
         raise ParameterError(f"{path}: line {line} is not UTF-8 text (byte {exc.start}); save the file as UTF-8") from None

@@ -353,7 +353,7 @@ def _peak(values: np.ndarray, time: np.ndarray) -> tuple[float, float | None, tu
     NaN if all are NaN.
 
     "Reached" means within :data:`PLATEAU` of the peak: a force that saturates (a friction force at
-    ``mu N``, a Bouc-Wen force at its yield level) stays at its peak over a plateau, where the
+    ``mu N``, a smooth hysteretic force at its yield level) stays at its peak over a plateau, where the
     largest sample is decided by round-off; its first instant is not."""
     if values.size == 0 or np.all(np.isnan(values)):
         return math.nan, None, None

@@ -6,6 +6,7 @@ tests run in) and used from a fresh interpreter that has that folder on its path
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 import textwrap
@@ -121,12 +122,17 @@ print(json.dumps(drive(law, [1e-4, 5e-3, -5e-3]).tolist()))
 
 
 def test_the_example_plugin_package_installs_and_passes_its_own_tests(tmp_path):
-    pip_install_into(tmp_path, REPO / "examples" / "custom-law-plugin")
-    laws, broken = listed_laws(tmp_path)
+    # A copy: building in place would write build/ and *.egg-info into the repository (a race when two
+    # test sessions install it at once), and the copy's tests run as in a user's clone of the example,
+    # under no pytest configuration of this repository (its addopts, e.g. -n, stay out).
+    example = shutil.copytree(REPO / "examples" / "custom-law-plugin", tmp_path / "custom-law-plugin",
+                              ignore=shutil.ignore_patterns("build", "*.egg-info", "__pycache__"))
+    site = tmp_path / "site"
+    pip_install_into(site, example)
+    laws, broken = listed_laws(site)
     assert broken == []
     assert laws["viscous-damper"]["distribution"] == "bearingfw-viscous-damper"
-    tests = REPO / "examples" / "custom-law-plugin" / "tests"
-    run_python(tmp_path, "-m", "pytest", "-q", "-p", "no:cacheprovider", str(tests))
+    run_python(site, "-m", "pytest", "-q", "-p", "no:cacheprovider", str(example / "tests"))
 
 
 THROWAWAY_PRESET = '''

@@ -36,6 +36,7 @@ from pathlib import Path
 import attrs
 
 from bearingfw.analysis import Rayleigh, solve_modal
+from bearingfw.analysis.static import initial_stiffness_error
 from bearingfw.bridges import find_preset
 from bearingfw.experiment.acceptance import SUSPECT
 from bearingfw.experiment.cells import CellJob, plan_cells, recording
@@ -153,6 +154,11 @@ def _check_models(experiment: Experiment, registry: Registry) -> tuple[dict, dic
         except (ParameterError, KeyError, TypeError, ValueError) as exc:
             message = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
             raise SpecError(f"{key_path('models', spec.name)}: {message}") from None
+        # a law stiffness no solve can take (not finite, or beyond 1/eps of the structure's stiffest
+        # term) is bad input, refused before any cell runs; a merely stiff one is left to the cells
+        error = initial_stiffness_error(systems[spec.name])
+        if error is not None:
+            raise SpecError(f"{key_path('models', spec.name)}: {error}")
     return models, systems
 
 

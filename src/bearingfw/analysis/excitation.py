@@ -56,7 +56,7 @@ that piecewise-linear acceleration from rest.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 
 import attrs
 import numpy as np
@@ -71,6 +71,7 @@ __all__ = [
     "Excitation",
     "Differential",
     "SupportMotion",
+    "support_group_problem",
     "build_excitation",
     "integrate_motion",
     "pseudo_static_influence",
@@ -504,26 +505,31 @@ def _nodal_array(system: System, nodal_loads, steps: int) -> np.ndarray | None:
     return arr
 
 
-def _check_support_groups(system: System, motion: SupportMotion) -> None:
-    """Every supported node in exactly one group, and nothing else in any."""
+def support_group_problem(system: System, groups: Mapping[str, Sequence[str]]) -> str | None:
+    """What is wrong with support ``groups`` (group -> node names) on ``system``: a node unknown or
+    without a support, or a supported node in no group; None if every supported node is in exactly
+    one group and nothing else in any (the groups' own duplicates are refused where they are made)."""
     supported = supported_nodes(system)
-    grouped = {n for nodes in motion.groups.values() for n in nodes}
+    grouped = {n for nodes in groups.values() for n in nodes}
     known = set(system.model.node_names)
     unknown = sorted(n for n in grouped if n not in known)
     if unknown:
-        raise ParameterError(f"solve_transient: 'ground_acceleration' support groups name unknown nodes {unknown}")
+        return f"support groups name unknown nodes {unknown}"
     unsupported = sorted(n for n in grouped if n not in set(supported))
     if unsupported:
-        raise ParameterError(
-            f"solve_transient: 'ground_acceleration' support groups name nodes without a support {unsupported}; "
-            f"the supported nodes are {supported}"
-        )
+        return f"support groups name nodes without a support {unsupported}; the supported nodes are {supported}"
     missing = [n for n in supported if n not in grouped]
     if missing:
-        raise ParameterError(
-            f"solve_transient: 'ground_acceleration' support groups leave supported nodes {missing} in no group; "
-            f"every supported node needs a group (bearingfw.analysis.excitation.support_groups makes them)"
-        )
+        return (f"support groups leave supported nodes {missing} in no group; every supported node needs a group "
+                "(bearingfw.analysis.excitation.support_groups makes them)")
+    return None
+
+
+def _check_support_groups(system: System, motion: SupportMotion) -> None:
+    """Every supported node in exactly one group, and nothing else in any."""
+    problem = support_group_problem(system, motion.groups)
+    if problem is not None:
+        raise ParameterError(f"solve_transient: 'ground_acceleration' {problem}")
 
 
 def _differential(system: System, motion: SupportMotion, dt: float, normal_forces) -> Differential | None:

@@ -36,6 +36,7 @@ from pathlib import Path
 import attrs
 
 from bearingfw.analysis import Rayleigh, solve_modal
+from bearingfw.analysis.excitation import support_group_problem
 from bearingfw.analysis.static import initial_stiffness_error
 from bearingfw.bridges import find_preset
 from bearingfw.experiment.acceptance import SUSPECT
@@ -45,7 +46,7 @@ from bearingfw.experiment.findings import Finding, check_findings
 from bearingfw.experiment.matrices import Matrices, collect_matrices, units_table, write_matrices
 from bearingfw.experiment.metrics import BEARINGS, DECK, DIRECTIONS, SECTIONS, MetricFamily, metric_families
 from bearingfw.experiment.progress import Progress, format_duration
-from bearingfw.experiment.records import load_record, record_info, scaled_record
+from bearingfw.experiment.records import load_record, record_info, scaled_record, spatial_spec
 from bearingfw.experiment.spec import Experiment, Intensity, SpecError, key_path
 from bearingfw.experiment.store import Store
 from bearingfw.experiment.structure import (
@@ -174,6 +175,16 @@ def _check_records(experiment: Experiment, registry: Registry) -> dict:
     return records
 
 
+def _check_support_groups(experiment: Experiment, system) -> None:
+    """A spatially varying record's named support groups fit the structure (every model has its supports)."""
+    for spec in experiment.records:
+        sp = spatial_spec(spec)
+        if sp is not None and isinstance(sp.groups, dict):
+            problem = support_group_problem(system, sp.groups)
+            if problem is not None:
+                raise SpecError(f"{key_path('records', spec.name, 'spatial', 'groups')}: {problem}")
+
+
 def _check_figures(experiment: Experiment, elements, connectors) -> None:
     figures = experiment.figures
     for name in figures.elements or ():
@@ -205,6 +216,7 @@ def check_experiment(experiment: Experiment) -> Checked:
     _check_figures(experiment, elements, connectors)
     mode_labeller(experiment)  # a wrong [structure] mode_labels fails the check, before any cell runs
     records = _check_records(experiment, registry)
+    _check_support_groups(experiment, next(iter(systems.values())))
     intensities, rayleigh = resolved_setup(experiment, registry)
     families = metric_families(registry)
     items = family_items(families, elements, nodes, connectors)

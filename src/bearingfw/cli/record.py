@@ -274,13 +274,12 @@ def _print_table(data: dict) -> None:
     print(f"PGA_H10 = {data['pga_h10']:.4g} m/s^2  (resultant of both horizontals low-passed at {h10['cutoff_hz']:g} Hz: "
           f"order-{h10['order_per_pass']} Butterworth, forward and backward)")
     if data["t_ha"] is None:  # no horizontal motion (a vertical-only record): no Arias intensity to time
-        print("t_Ha    = undefined  (no horizontal motion: 5-95 % of a zero Arias intensity)")
-        print(f"Arias   = {data['arias']:.4g} m/s  (both horizontals)")
-        print(f"Degree  = undefined  (no horizontal motion; scale {data['scale']})")
+        t_ha, degree = "undefined  (no horizontal motion: 5-95 % of a zero Arias intensity)", "undefined  (no horizontal motion; "
     else:
-        print(f"t_Ha    = {data['t_ha']:.3g} s  (5-95 % of the horizontal Arias intensity)")
-        print(f"Arias   = {data['arias']:.4g} m/s  (both horizontals)")
-        print(f"Degree  = {data['degree']}  (scale {data['scale']})")
+        t_ha, degree = f"{data['t_ha']:.3g} s  (5-95 % of the horizontal Arias intensity)", f"{data['degree']}  ("
+    print(f"t_Ha    = {t_ha}")
+    print(f"Arias   = {data['arias']:.4g} m/s  (both horizontals)")
+    print(f"Degree  = {degree}scale {data['scale']})")
     _print_spectrum(data)
 
 

@@ -435,7 +435,7 @@ def record_summary(record: Record, periods=SUMMARY_PERIODS, damping: float = DEF
     return {
         "pga_h10": record_pga_h10(record),
         "pga_h10_filter": H10_FILTER.to_dict(),
-        "t_ha": record_t_ha(record) if has_horizontal_motion(record) else None,
+        "t_ha": None if math.isnan(t_ha := record_t_ha(record)) else t_ha,
         "arias": arias_intensity(record.horizontal, record.dt),
         "pga": {c["role"]: c["pga"] for c in components},
         "components": components,

@@ -284,16 +284,12 @@ class BoucWen:
         return self.SUBSTEP_RATIO / rate
 
     def _values(self, count: int | None) -> _Values:
-        """The parameters for a call with ``count`` connectors (None: as the law holds them)."""
+        """The parameters for a call with ``count`` connectors (None: as the law holds them); with
+        per-bearing arrays, each a column ``(count, 1)``, which broadcasts over ``(count, dims)``."""
         values = [getattr(self, name) for name in _NUMERIC]
         if count is None or not any(isinstance(value, np.ndarray) for value in values):
             return _Values(*values)
-        if count == 1:  # one connector: the scalar arithmetic, exactly as a law with these values
-            return _Values(*(float(np.asarray(value).reshape(-1)[0]) for value in values))
-        # Contiguous columns (a copy, not a broadcast view): numpy's fast loop needs them, several
-        # times cheaper on so small arrays than the strided one a broadcast scalar would take.
-        columns = (np.array(np.broadcast_to(np.asarray(value, dtype=float), (count,))) for value in values)
-        return _Values(*(column.reshape(count, 1) for column in columns))
+        return _Values(*(np.broadcast_to(np.asarray(value, dtype=float), (count,)).reshape(count, 1) for value in values))
 
     def _prepared(self, count: int) -> _Prepared:
         """The parameters arranged for a call with ``count`` connectors, built (and the per-bearing

@@ -48,7 +48,7 @@ from __future__ import annotations
 import attrs
 import numpy as np
 
-__all__ = ["Energy", "ENERGY_COLUMNS", "advance_energy", "energy_error", "balance_error", "numerical_dissipation"]
+__all__ = ["Energy", "ENERGY_COLUMNS", "accumulate", "energy_error", "balance_error", "numerical_dissipation"]
 
 #: Columns of the energy table of a :class:`~bearingfw.analysis.TransientResult`.
 ENERGY_COLUMNS = ("kinetic", "strain", "damping", "bearings", "input", "imbalance", "numerical")
@@ -74,48 +74,19 @@ class Energy:
         return (self.kinetic, self.strain, self.damping, self.bearings, self.input, self.imbalance, self.numerical)
 
 
-def _trapezoid(increment: np.ndarray, force0: np.ndarray, force1: np.ndarray) -> float:
-    return 0.5 * float(increment @ (force0 + force1))
-
-
-def advance_energy(
-    energy: Energy,
-    *,
-    dx: np.ndarray,
-    v1: np.ndarray,
-    Mv1: np.ndarray,
-    x1: np.ndarray,
-    Kx1: np.ndarray,
-    damping0: np.ndarray,
-    damping1: np.ndarray,
-    dd: np.ndarray,
-    bearing0: np.ndarray,
-    bearing1: np.ndarray,
-    load0: np.ndarray,
-    load1: np.ndarray,
-    Ma0: np.ndarray | None = None,
-    Ma1: np.ndarray | None = None,
-    rho0: np.ndarray | None = None,
-    rho1: np.ndarray | None = None,
-) -> Energy:
-    """The terms after one step: state functions at the new point, works by the trapezoidal rule.
-
-    ``damping*`` are the damping forces ``C v``, ``bearing*`` the law forces minus their preload
-    values (connector space, ``dd`` the increment of ``B x``), ``load*`` the dynamic loads.
-    ``Ma*`` (``M a``) and ``rho*`` (the scheme's out-of-balance forces) give the numerical
-    dissipation of the step (module docstring); without them it is taken as zero.
-    """
-    kinetic = 0.5 * float(v1 @ Mv1)
-    numerical = energy.numerical
-    if Ma0 is not None:
-        numerical += _trapezoid(dx, Ma0, Ma1) - (kinetic - energy.kinetic) - _trapezoid(dx, rho0, rho1)
+def accumulate(energy: Energy, terms) -> Energy:
+    """The energy after a step from its terms ``(kinetic, strain, W_damping, W_bearings, W_input,
+    W_inertia, W_rho)``: the kinetic and strain energies at the step's end, then the works of the
+    step's damping, bearing, load, inertia (``M a``) and out-of-balance (``rho``) forces
+    (:func:`bearingfw.analysis.hht_kernels.commit` computes them, from the arrays of a step)."""
+    kinetic, strain, damping, bearings, work_input, inertia, rho = terms
     return Energy(
         kinetic=kinetic,
-        strain=0.5 * float(x1 @ Kx1),
-        damping=energy.damping + _trapezoid(dx, damping0, damping1),
-        bearings=energy.bearings + _trapezoid(dd, bearing0, bearing1),
-        input=energy.input + _trapezoid(dx, load0, load1),
-        numerical=numerical,
+        strain=strain,
+        damping=energy.damping + damping,
+        bearings=energy.bearings + bearings,
+        input=energy.input + work_input,
+        numerical=energy.numerical + (inertia - (kinetic - energy.kinetic) - rho),
     )
 
 

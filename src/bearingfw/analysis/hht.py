@@ -125,7 +125,7 @@ try:  # scipy's sparse kernels (private; the products fall back to the public op
 except ImportError:  # pragma: no cover - a scipy that moved them
     _sparsetools = None
 
-from bearingfw.analysis.energy import Energy, advance_energy
+from bearingfw.analysis.energy import Energy, accumulate
 from bearingfw.analysis.static import SYMMETRIC_ORDERING, factorize
 from bearingfw.model import ConnectorOperators, ModelError
 from bearingfw.protocol import law_flag
@@ -140,6 +140,7 @@ __all__ = [
     "StepFailure",
     "effective_matrix",
     "factor",
+    "Factors",
     "build_operator",
     "step",
     "BACKTRACKS",
@@ -229,6 +230,14 @@ class Products:
         return cls(*mats)
 
 
+def _csr32(A) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``A``'s CSR arrays ``(indptr, indices, data)`` as the compiled step takes them: uint32 indices,
+    float64 values (:mod:`bearingfw.analysis.hht_kernels`)."""
+    A = sp.csr_matrix(A, dtype=np.float64)
+    A.sum_duplicates()
+    return A.indptr.astype(np.uint32), A.indices.astype(np.uint32), np.ascontiguousarray(A.data)
+
+
 @attrs.frozen(eq=False)
 class Problem:
     """The matrices and preload quantities one step needs (free DOFs; see the module docstring)."""
@@ -252,6 +261,8 @@ class Problem:
     max_iterations: int
     fast: bool
     mul: Products = attrs.field(init=False)
+    #: the CSR arrays of ``[M; K]`` and of ``B^T`` for the compiled step (:func:`_csr32`, :func:`step`)
+    csr: tuple[tuple, tuple] = attrs.field(init=False, repr=False)
     d0_size: float = attrs.field(init=False)  # max |d_0|, part of the round-off allowances
     #: spring rows whose N the laws' dF/dN couples into Newton (sorted), their kv, and where each
     #: of ``ops.coupling_rows`` puts its dF/dN in ``E`` (flat index) and with which kv (:func:`_coupling`)
@@ -266,6 +277,7 @@ class Problem:
 
     def __attrs_post_init__(self):
         object.__setattr__(self, "mul", Products.of(self.M, self.K, self.B, self.Bt, self.V))
+        object.__setattr__(self, "csr", (_csr32(sp.vstack([self.M, self.K])), _csr32(self.Bt)))
         object.__setattr__(self, "d0_size", _inf(self.d0))
         springs = self.ops.coupling_springs
         coupled = np.unique(springs)
@@ -307,11 +319,51 @@ def effective_matrix(M, K, a0: float, a1: float, scheme: Scheme, h: float) -> sp
     return ((cm + cd * a0) * M + (c + cd * a1) * K).tocsc()
 
 
-def factor(A):
+def factor(A) -> Factors:
     """LU factors of an effective matrix: :func:`~bearingfw.analysis.factorize` with the symmetric
     ordering (``A`` is symmetric: cheaper back-substitutions, the dominant cost of a fast-path
     step); a (nearly) singular ``A`` raises its mechanism error naming the DOFs that move."""
-    return factorize(A, ordering=SYMMETRIC_ORDERING)
+    return Factors(factorize(A, ordering=SYMMETRIC_ORDERING))
+
+
+class Factors:
+    """SuperLU's factors of ``A`` whose :meth:`solve` of one right-hand side is the compiled
+    :func:`~bearingfw.analysis.hht_kernels.back_substitute` on those same factors (the step's one
+    back-substitution; about a third of SuperLU's own solve at a thousand DOFs). Several
+    right-hand sides at once (the condensation ``A^-1 B^T``) go to SuperLU."""
+
+    def __init__(self, lu):
+        self.lu = lu
+        L, U = lu.L.tocsc(), lu.U.tocsc()
+        L.sort_indices()
+        U.sort_indices()
+        u32 = np.uint32
+        self._arrays = (
+            L.indptr.astype(u32), L.indices.astype(u32), np.ascontiguousarray(L.data, dtype=float),
+            U.indptr.astype(u32), U.indices.astype(u32), np.ascontiguousarray(U.data, dtype=float),
+            lu.perm_r.astype(u32), lu.perm_c.astype(u32),
+        )  # fmt: skip
+        # the kernel reads each column's diagonal where sorted CSC puts it; else SuperLU solves
+        n = L.shape[0]
+        diagonal = np.arange(n)
+        self._compiled = bool(n) and (
+            np.array_equal(L.indices[L.indptr[:-1]], diagonal) and np.array_equal(U.indices[U.indptr[1:] - 1], diagonal)
+        )
+        self._kernel = None
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.lu.shape
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        """``A^-1 b`` (``b`` a vector, or a matrix of right-hand sides as columns)."""
+        if not self._compiled or b.ndim != 1 or b.dtype != np.float64 or not b.flags.c_contiguous:
+            return self.lu.solve(b)
+        if self._kernel is None:
+            self._kernel = _kernels().back_substitute
+        out = np.empty(b.shape[0])
+        self._kernel(*self._arrays, b, out)
+        return out
 
 
 @attrs.frozen(eq=False)
@@ -487,16 +539,21 @@ def effective_rhs(p: Problem, s: State, h: float, load1: np.ndarray):
     """``r`` of the module docstring and the predictors ``xt``, ``vt``.
 
     ``M rm`` and ``K (...)`` are combinations of the products ``M [x, v, a]`` and ``K [x, v, a]``
-    the last step kept (:attr:`State.products`): no sparse product here."""
-    al = p.scheme.alpha
+    the last step kept (:attr:`State.products`): no sparse product here; one compiled loop
+    (:func:`bearingfw.analysis.hht_kernels.predict`)."""
     T, weights = _rhs_weights(p, h)
-    xt, vt = T @ (np.stack((s.x, s.v, s.a)) if s.xva is None else s.xva)
-    r = weights @ s.products.reshape(6, -1) + (1.0 + al) * load1
-    if al:
-        r = r - al * s.load
-        if p.m:
-            r = r + al * s.Bt_phi
-    return r, xt, vt
+    xva = np.stack((s.x, s.v, s.a)) if s.xva is None else s.xva
+    al = p.scheme.alpha
+    out = np.empty((3, xva.shape[1]))
+    _kernels().predict(xva, s.products, T, weights, load1, s.load, s.Bt_phi, 1.0 + al, al, out)
+    return out
+
+
+def _kernels():
+    """:mod:`bearingfw.analysis.hht_kernels`, imported at the first step (numba's import is not free)."""
+    from bearingfw.analysis import hht_kernels
+
+    return hht_kernels
 
 
 #: below this many entries a sum of Python floats (``tolist``) is cheaper than numpy's reduction
@@ -983,51 +1040,23 @@ def step(
     )
     if not _finite(x):
         raise StepFailure("non-finite displacements", np.inf, np.ones(p.m), iterations)
-    # x, v, a as the rows of one array (the next step's predictors are one product with it)
-    xva = np.empty((3, x.size))
-    xva[0] = x
-    x, v, a = xva
-    np.subtract(x, xt, out=a)
-    np.divide(a, sch.beta * h * h, out=a)
-    np.multiply(a, sch.gamma * h, out=v)
-    np.add(vt, v, out=v)
-    # M and K times (x, v, a): one sparse product for x; v and a follow from x as in x-space
-    products = np.empty_like(s.products)
-    products[:, 0] = (p.mul.MK @ x).reshape(2, -1)
-    predicted = np.matmul(_rhs_weights(p, h)[0], s.products)  # [[M xt, M vt], [K xt, K vt]]
-    np.subtract(products[:, 0], predicted[:, 0], out=products[:, 2])
-    np.divide(products[:, 2], sch.beta * h * h, out=products[:, 2])
-    np.multiply(products[:, 2], sch.gamma * h, out=products[:, 1])
-    np.add(predicted[:, 1], products[:, 1], out=products[:, 1])
-    (_, Mv, Ma), (Kx, Kv, _) = products
+    T, _ = _rhs_weights(p, h)
     if p.m:
-        Bt_phi = p.mul.Bt @ (f - p.f0 if phi is None else phi)
-    else:
-        Bt_phi = s.Bt_phi
-    damping1 = p.damping_force(Mv, Kv)
-    G = damping1 + Kx + Bt_phi - load1
-    rho = -al * (G - s.G)  # what the scheme leaves out of balance at t_{n+1}: M a + G = -alpha (G - G_n)
-    dx = x - s.x
-    energy = advance_energy(
-        s.energy,
-        dx=dx,
-        v1=v,
-        Mv1=Mv,
-        x1=x,
-        Kx1=Kx,
-        damping0=s.Cv,
-        damping1=damping1,
-        dd=p.mul.B @ dx,
-        bearing0=s.f - p.f0,
-        bearing1=f - p.f0 if phi is None else phi,
-        load0=s.load,
-        load1=load1,
-        Ma0=s.Ma,
-        Ma1=Ma,
-        rho0=s.rho,
-        rho1=rho,
-    )
-    ae = (a + al * s.ae) / (1.0 + al) if al else a
+        phi = f - p.f0 if phi is None else phi
+    mk, bt = p.csr
+    kernels = _kernels()
+    out, terms = np.empty((kernels.ROWS, x.size)), np.empty(7)
+    kernels.commit(
+        x, xt, vt, s.xva if s.xva is not None else np.stack((s.x, s.v, s.a)), s.products, T,
+        *mk, *bt, p.f0 if phi is None else phi, bool(p.m),
+        s.load, load1, s.Cv, s.Ma, s.Bt_phi, s.G, s.rho, s.ae, sch.beta * h * h, sch.gamma * h, p.a0, p.a1, al,
+        out, terms,
+    )  # fmt: skip
+    xva, products = out[0:3], out[3:9].reshape(2, 3, -1)
+    x, v, a = xva
+    Mv, Ma, Kv = products[0, 1], products[0, 2], products[1, 1]
+    Bt_phi, damping1, G, rho, ae = out[9:]
+    energy = accumulate(s.energy, terms.tolist())
     state = State(
         t1, x, v, a, f, d, N, law_states, load1, Mv, Kv, energy, damping1, Ma, Bt_phi, G, rho, ae, tangents, products,
         coupling, xva, jacobian,

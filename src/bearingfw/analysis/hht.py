@@ -238,6 +238,17 @@ def _csr32(A) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return A.indptr.astype(np.uint32), A.indices.astype(np.uint32), np.ascontiguousarray(A.data)
 
 
+def _layout(ops: ConnectorOperators) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per connector of every law group (in the groups' order): its first row of ``B``, its number
+    of directions ``dims`` and the offset of its ``dims x dims`` block in the flat tangent."""
+    starts = [g.rows.start + g.dims * np.arange(g.n) for g in ops.groups]
+    dims = [np.full(g.n, g.dims) for g in ops.groups]
+    sizes = np.concatenate(dims) ** 2 if dims else np.zeros(0, dtype=np.int64)
+    offsets = np.concatenate(([0], np.cumsum(sizes)[:-1])) if sizes.size else sizes
+    flat = (lambda parts: np.ascontiguousarray(np.concatenate(parts) if parts else np.zeros(0), dtype=np.int64))
+    return flat(starts), flat(dims), np.ascontiguousarray(offsets, dtype=np.int64)
+
+
 @attrs.frozen(eq=False)
 class Problem:
     """The matrices and preload quantities one step needs (free DOFs; see the module docstring)."""
@@ -263,6 +274,9 @@ class Problem:
     mul: Products = attrs.field(init=False)
     #: the CSR arrays of ``[M; K]`` and of ``B^T`` for the compiled step (:func:`_csr32`, :func:`step`)
     csr: tuple[tuple, tuple] = attrs.field(init=False, repr=False)
+    #: where each connector's tangent block sits: ``(starts, dims, offsets)``, its first governed row,
+    #: its size and its place in the flat tangent (:func:`_tangent`, :mod:`~bearingfw.analysis.hht_kernels`)
+    layout: tuple[np.ndarray, np.ndarray, np.ndarray] = attrs.field(init=False, repr=False)
     d0_size: float = attrs.field(init=False)  # max |d_0|, part of the round-off allowances
     #: spring rows whose N the laws' dF/dN couples into Newton (sorted), their kv, and where each
     #: of ``ops.coupling_rows`` puts its dF/dN in ``E`` (flat index) and with which kv (:func:`_coupling`)
@@ -278,6 +292,7 @@ class Problem:
     def __attrs_post_init__(self):
         object.__setattr__(self, "mul", Products.of(self.M, self.K, self.B, self.Bt, self.V))
         object.__setattr__(self, "csr", (_csr32(sp.vstack([self.M, self.K])), _csr32(self.Bt)))
+        object.__setattr__(self, "layout", _layout(self.ops))
         object.__setattr__(self, "d0_size", _inf(self.d0))
         springs = self.ops.coupling_springs
         coupled = np.unique(springs)
@@ -466,9 +481,9 @@ class State:
     G: np.ndarray
     rho: np.ndarray
     ae: np.ndarray
-    #: the laws' tangent blocks at ``d`` (fast path; None at the start and on the general path):
-    #: the next step's predictor linearises the law forces with them
-    tangents: list | None = None
+    #: the laws' tangent ``K_t`` at ``d``, flat (fast path, :func:`_tangent`; None at the start and on
+    #: the general path): the next step's predictor linearises the law forces with it
+    tangents: np.ndarray | None = None
     #: ``[[M x, M v, M a], [K x, K v, K a]]`` (2, 3, n): the next step's right-hand side and this
     #: step's energy and damping terms are combinations of them (:func:`effective_rhs`)
     products: np.ndarray | None = None
@@ -574,14 +589,19 @@ def _inf(a: np.ndarray) -> float:
     return float(_max(np.abs(a), axis=None)) if a.size else 0.0
 
 
-def _blocks(p: Problem, responses, rate: float) -> list[tuple[slice, np.ndarray]]:
-    """The laws' tangents per group, ``(rows of B, (n, dims, dims))``: ``K_t`` is block diagonal.
+def _tangent(p: Problem, responses, rate: float) -> np.ndarray:
+    """The laws' tangent ``K_t`` (block diagonal) as one flat array, block after block
+    (:attr:`Problem.layout`).
 
     For a law that uses the velocity, ``rate = dv/du = gamma / (beta h)`` times its
     ``dforce_dvelocity`` is added (the velocity moves with the displacement)."""
     if p.ops.any_velocity:
-        return [(g.rows, t) for g, t in zip(p.ops.groups, p.ops.tangent_blocks(responses, rate), strict=True)]
-    return [(g.rows, np.asarray(r.tangent, dtype=float)) for g, r in zip(p.ops.groups, responses, strict=True)]
+        blocks = p.ops.tangent_blocks(responses, rate)
+    else:
+        blocks = [np.asarray(r.tangent, dtype=float) for r in responses]
+    if len(blocks) == 1:
+        return blocks[0].reshape(-1)  # C order: a view, or the copy a non-contiguous block needs
+    return np.concatenate([t.reshape(-1) for t in blocks])
 
 
 def _coupling(p: Problem, responses, N: np.ndarray) -> np.ndarray | None:
@@ -618,43 +638,14 @@ class Motion:
         return self.Bvt + self.rate * ((d - p.d0 - self.offset[: p.m]) - self.Bxt) + self.offset_rate
 
 
-def _tangent_times(blocks, vector: np.ndarray) -> np.ndarray:
-    """``K_t @ vector`` block by block."""
-    if len(blocks) == 1 and blocks[0][1].shape[0] * blocks[0][1].shape[1] == vector.shape[0]:
-        t = blocks[0][1]  # one law for every row (the usual case)
-        if t.shape[1] == 1:
-            return t.reshape(-1) * vector
-        return (t @ vector.reshape(t.shape[0], -1, 1)).reshape(-1)
-    out = np.empty_like(vector)
-    for rows, t in blocks:
-        if t.shape[1] == 1:  # 1-D law: a diagonal
-            out[rows] = t.reshape(-1) * vector[rows]
-        else:
-            out[rows] = (t @ vector[rows].reshape(t.shape[0], -1, 1)).reshape(-1)  # batched: cheaper than einsum
-    return out
+def _tangent_times(p: Problem, tangent: np.ndarray, vector: np.ndarray) -> np.ndarray:
+    """``K_t @ vector`` (``tangent`` flat: :func:`_tangent`)."""
+    return _kernels().tangent_times(tangent, *p.layout, vector)
 
 
-def _times_tangent(matrix: np.ndarray, blocks) -> np.ndarray:
-    """``matrix @ K_t`` block by block (``m x m`` dense times block diagonal)."""
-    rows_m = matrix.shape[0]
-    if len(blocks) == 1 and blocks[0][1].shape[0] * blocks[0][1].shape[1] == matrix.shape[1]:
-        t = blocks[0][1]  # one law for every column (the usual case)
-        n, d = t.shape[0], t.shape[1]
-        if d == 1:
-            return matrix * t.reshape(-1)  # a diagonal
-        product = np.matmul(matrix.reshape(rows_m, n, d).transpose(1, 0, 2), t)
-        return product.transpose(1, 0, 2).reshape(rows_m, n * d)
-    out = np.empty_like(matrix)
-    for rows, t in blocks:
-        n, d = t.shape[0], t.shape[1]
-        if d == 1:
-            out[:, rows] = matrix[:, rows] * t.reshape(-1)
-            continue
-        # batched (n) products of (rows_m x d) by (d x d): far faster than the equivalent einsum
-        out[:, rows] = np.matmul(matrix[:, rows].reshape(rows_m, n, d).transpose(1, 0, 2), t).transpose(1, 0, 2).reshape(
-            rows_m, n * d
-        )
-    return out
+def _times_tangent(p: Problem, matrix: np.ndarray, tangent: np.ndarray, identity: bool = False) -> np.ndarray:
+    """``matrix @ K_t`` (``m`` columns; plus the identity when ``identity``: ``I + c S K_t``)."""
+    return _kernels().times_tangent(matrix, tangent, *p.layout, identity)
 
 
 def _line_search(trial_at: Callable[[float], object], current) -> tuple[object, int]:
@@ -685,7 +676,7 @@ class _FastTrial:
     responses: list
     f: np.ndarray
     phi: np.ndarray
-    blocks: list
+    tangent: np.ndarray  # K_t, flat (_tangent)
     g: np.ndarray  # d - d_lin + c S phi
     N_new: np.ndarray  # N_lin + c kv (V W) phi: the normal forces these law forces imply
     merit: float  # |g| (with dF/dN: |(g, h)|)
@@ -695,8 +686,8 @@ class _FastTrial:
     h: np.ndarray | None = None  # with dF/dN: (N - N_new) / kv on the coupled springs
 
 
-def _stiffness(blocks) -> float:
-    return max((_inf(t) for _, t in blocks), default=0.0)
+def _stiffness(tangent: np.ndarray) -> float:
+    return _inf(tangent)
 
 
 #: what a solver returns instead of ``(tangents, coupling, jacobian, phi)`` (:func:`step`) when it has none
@@ -750,7 +741,7 @@ def _predict(p: Problem, op: Operator, s: State, d_lin: np.ndarray, N_lin: np.nd
     m = p.m
     phi = s.f - p.f0
     if s.tangents is not None:
-        held = phi - _tangent_times(s.tangents, s.d)
+        held = phi - _tangent_times(p, s.tangents, s.d)
         factors = _factors_for(s, op)
         if s.coupling is not None:
             nu_n = s.N[p.coupled_at] / p.kv_coupled
@@ -761,14 +752,14 @@ def _predict(p: Problem, op: Operator, s: State, d_lin: np.ndarray, N_lin: np.nd
             if factors is not None:
                 z = _solve_factored(factors, rhs)
             else:
-                J = np.concatenate((_times_tangent(op.cSV, s.tangents), op.cSV @ s.coupling), axis=1)
+                J = np.concatenate((_times_tangent(p, op.cSV, s.tangents), op.cSV @ s.coupling), axis=1)
                 J.reshape(-1)[:: J.shape[0] + 1] += 1.0
                 z = _solve_dense(J, rhs)
             if z is not None and _finite(z):
                 d, nu = z[:m], z[m:]
                 if p.coupled.size == p.kv.size:  # every spring coupled: N is nu's throughout
                     return d, p.kv_coupled * nu
-                N = N_lin + op.cNW @ (held + _tangent_times(s.tangents, d) + s.coupling @ nu)
+                N = N_lin + op.cNW @ (held + _tangent_times(p, s.tangents, d) + s.coupling @ nu)
                 N[p.coupled_at] = p.kv_coupled * nu
                 return d, N
         else:
@@ -776,9 +767,9 @@ def _predict(p: Problem, op: Operator, s: State, d_lin: np.ndarray, N_lin: np.nd
             if factors is not None:
                 d = _solve_factored(factors, rhs)
             else:
-                d = _solve_dense(op.eye + _times_tangent(op.cS, s.tangents), rhs)
+                d = _solve_dense(_times_tangent(p, op.cS, s.tangents, identity=True), rhs)
             if d is not None and _finite(d):
-                return d, N_lin + op.cNW @ (held + _tangent_times(s.tangents, d))
+                return d, N_lin + op.cNW @ (held + _tangent_times(p, s.tangents, d))
     sn = op.cSN @ phi
     return d_lin - sn[:m], N_lin + sn[m:]
 
@@ -793,12 +784,12 @@ def _coupled_correction(p: Problem, op: Operator, trial: _FastTrial):
     """
     m = p.m
     if trial.E is None:
-        delta, factors = _factor_solve(op.eye + _times_tangent(op.cS, trial.blocks), trial.g)
+        delta, factors = _factor_solve(_times_tangent(p, op.cS, trial.tangent, identity=True), trial.g)
         if delta is None:
             return None, None, None, None
-        change = _tangent_times(trial.blocks, delta)
+        change = _tangent_times(p, trial.tangent, delta)
         return delta, trial.h + op.cVW @ change, change, factors
-    J = np.concatenate((_times_tangent(op.cSV, trial.blocks), op.cSV @ trial.E), axis=1)
+    J = np.concatenate((_times_tangent(p, op.cSV, trial.tangent), op.cSV @ trial.E), axis=1)
     J.reshape(-1)[:: J.shape[0] + 1] += 1.0  # the diagonal, in place
     x, factors = _factor_solve(J, np.concatenate((trial.g, trial.h)))
     return (None, None, None, None) if x is None else (x[:m], x[m:], None, factors)
@@ -830,29 +821,29 @@ def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, for
     origins = np.stack((s.d, p.d0))
 
     # one law group without velocity (the usual case): its force and tangent as they come
-    single = p.ops.groups[0].rows if len(p.ops.groups) == 1 and not p.ops.any_velocity else None
+    single = len(p.ops.groups) == 1 and not p.ops.any_velocity
 
     def evaluate(d: np.ndarray, N: np.ndarray) -> _FastTrial:
         responses = respond(law_states, d, N, h, velocity=None if velocity is None else velocity(p, d))
-        if single is not None:  # ConnectorOperators.forces and _blocks for one group
+        if single:  # ConnectorOperators.forces and _tangent for one group
             f = np.asarray(responses[0].force, dtype=float).reshape(-1)
-            blocks = [(single, np.asarray(responses[0].tangent, dtype=float))]
+            tangent = np.asarray(responses[0].tangent, dtype=float).reshape(-1)
         else:
             f = forces(responses)
-            blocks = _blocks(p, responses, rate)
+            tangent = _tangent(p, responses, rate)
         phi = f - f0
         sn = cSN @ phi  # c S phi and the normal forces' change, one product
         g = d - d_lin + sn[:m]
         N_new = N_lin + sn[m:]
-        finite = _finite(sn, blocks[0][1]) if len(blocks) == 1 else _finite(sn, *(t for _, t in blocks))
+        finite = _finite(sn, tangent)
         if not n_coupled:
             merit = math.sqrt(g @ g)  # np.linalg.norm's own formula, without its dispatch
-            return _FastTrial(d, N, responses, f, phi, blocks, g, N_new, merit, merit <= round_d, finite)
+            return _FastTrial(d, N, responses, f, phi, tangent, g, N_new, merit, merit <= round_d, finite)
         E = _coupling(p, responses, N)
         gap = (N[coupled] - N_new[coupled]) / kv_coupled
         merit = math.sqrt(g @ g + gap @ gap)
         finite = finite and (E is None or _finite(E))
-        return _FastTrial(d, N, responses, f, phi, blocks, g, N_new, merit, merit <= round_d, finite, E, gap)
+        return _FastTrial(d, N, responses, f, phi, tangent, g, N_new, merit, merit <= round_d, finite, E, gap)
 
     trial = evaluate(*_predict(p, op, s, d_lin, N_lin))
     delta = np.zeros(m)
@@ -860,11 +851,11 @@ def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, for
     for it in range(1, p.max_iterations + 1):
         if not trial.finite:
             raise StepFailure("a law returned a non-finite force or tangent", np.inf, ~np.isfinite(trial.f), it)
-        blocks = trial.blocks
+        tangent = trial.tangent
         if n_coupled:
             delta, delta_nu, change, factors = _coupled_correction(p, op, trial)
         else:
-            delta, factors = _factor_solve(op.eye + _times_tangent(op.cS, blocks), trial.g)
+            delta, factors = _factor_solve(_times_tangent(p, op.cS, tangent, identity=True), trial.g)
         if delta is None:
             raise StepFailure("singular condensed Jacobian", np.inf, np.abs(trial.g), it)
         d = trial.d
@@ -872,16 +863,16 @@ def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, for
         if _inf(delta) <= p.tol_displacement * float(_max(np.abs(d - origins), axis=None)) + round_d:
             N, f = trial.N, trial.f
             # force residual: the linearisation c (K_t g + E h) of c B^T (phi(B x, N(x)) - phi(d, N))
-            linear_residual = _tangent_times(blocks, trial.g)
+            linear_residual = _tangent_times(p, tangent, trial.g)
             if trial.E is not None:
                 linear_residual = linear_residual + trial.E @ trial.h
             if (
                 _inf(trial.N_new - N) <= p.tol_force * max(_inf(N), _inf(trial.N_new)) + n_round
                 and c * _inf(linear_residual)
-                <= p.tol_force * max(force_scale, _inf(f)) + _ROUND * c * _stiffness(blocks) * size
+                <= p.tol_force * max(force_scale, _inf(f)) + _ROUND * c * _stiffness(tangent) * size
             ):
                 states = tuple(rr.state for rr in trial.responses)
-                linearised = (blocks, trial.E, (op, blocks, trial.E, *factors), trial.phi)
+                linearised = (tangent, trial.E, (op, tangent, trial.E, *factors), trial.phi)
                 return x_lin - op.cW @ trial.phi, f, d, N, states, it, backtracks, linearised
         base = trial
         if n_coupled and n_coupled == p.kv.size:
@@ -896,7 +887,7 @@ def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, for
             # N of the coupled springs is a Newton unknown; the others' N follows the law forces
             # linearised at the next iterate, as below
             if change is None:
-                change = _tangent_times(blocks, delta)
+                change = _tangent_times(p, tangent, delta)
             dN = op.cNW @ (change if trial.E is None else change + trial.E @ delta_nu)
             dN_coupled = kv_coupled * delta_nu
 
@@ -911,7 +902,7 @@ def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, for
         else:
             # N for the next iterate from the law forces linearised there (exact for linear laws, so
             # they converge in two evaluations); the laws' own dependence on N lags one iteration.
-            dN = op.cNW @ _tangent_times(blocks, delta)
+            dN = op.cNW @ _tangent_times(p, tangent, delta)
 
             def trial_at(lam: float, base=base, delta=delta, dN=dN) -> _FastTrial:
                 if lam == 1.0:

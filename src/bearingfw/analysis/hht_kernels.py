@@ -184,3 +184,44 @@ def back_substitute(l_indptr, l_indices, l_data, u_indptr, u_indices, u_data, pe
                 z[u_indices[k]] -= u_data[k] * zj
     for i in range(n):
         out[i] = z[perm_c[i]]
+
+
+# ---- the laws' block-diagonal tangent K_t ------------------------------------------------------
+# K_t is stored flat: connector k's (dims x dims) block, row by row, from offsets[k], acting on the
+# rows starts[k] .. starts[k] + dims[k] - 1 of the governed directions (hht.Problem.layout).
+
+_L = "int64[::1]"
+
+
+@njit(f"{_V}({_V}, {_L}, {_L}, {_L}, {_V})", cache=True)
+def tangent_times(tangent, starts, dims, offsets, vector):
+    """``K_t @ vector``."""
+    out = np.empty(vector.shape[0])
+    for k in range(starts.shape[0]):
+        s, n, o = starts[k], dims[k], offsets[k]
+        for a in range(n):
+            total = 0.0
+            for b in range(n):
+                total += tangent[o + a * n + b] * vector[s + b]
+            out[s + a] = total
+    return out
+
+
+@njit(f"{_M2}({_M2}, {_V}, {_L}, {_L}, {_L}, boolean)", cache=True)
+def times_tangent(matrix, tangent, starts, dims, offsets, identity):
+    """``matrix @ K_t`` (``matrix``: rows x m), plus the identity in its leading square when
+    ``identity`` (the condensed Jacobian ``I + c S K_t``)."""
+    rows = matrix.shape[0]
+    out = np.empty((rows, matrix.shape[1]))
+    for k in range(starts.shape[0]):
+        s, n, o = starts[k], dims[k], offsets[k]
+        for r in range(rows):
+            for b in range(n):
+                total = 0.0
+                for a in range(n):
+                    total += matrix[r, s + a] * tangent[o + a * n + b]
+                out[r, s + b] = total
+    if identity:
+        for i in range(min(rows, matrix.shape[1])):
+            out[i, i] += 1.0
+    return out

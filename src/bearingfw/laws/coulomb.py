@@ -33,10 +33,6 @@ from bearingfw.laws.inputs import respond_inputs
 from bearingfw.parameters import ParameterError, check_per_bearing, dims_parameter, parameter
 from bearingfw.protocol import LawResponse
 
-#: identity blocks of the tangent, shared read-only (an allocation per call costs more than the law)
-_EYE = {d: np.eye(d) for d in (1, 2)}
-for _e in _EYE.values():
-    _e.setflags(write=False)
 #: 0.0 as a numpy array: a ufunc takes it faster than the Python float (the same comparison)
 _ZERO = np.zeros(())
 _ZERO.setflags(write=False)
@@ -58,20 +54,29 @@ def friction_return_map(k, u: np.ndarray, slip: np.ndarray, capacity: np.ndarray
     (this module's, the PTFE and pendulum plugins').
 
     ``k``: a scalar or a column ``(n, 1)``; ``u``, ``slip``: ``(n, dims)``; ``capacity``: ``(n,)``.
-    Where ``capacity <= 0`` the force is identically zero, also at a zero trial force.
+    Where ``capacity <= 0`` the force is identically zero, also at a zero trial force. Computed by
+    the compiled loop :func:`bearingfw.laws.friction_kernel.return_map`.
     """
-    trial = k * (u - slip)
-    # |trial| per connector (in 1-D |t| itself, which sqrt(t * t) equals but for underflow)
-    trial_norm = np.abs(trial[:, 0]) if u.shape[1] == 1 else np.sqrt(np.einsum("ij,ij->i", trial, trial))
-    sliding = (trial_norm > capacity) | (capacity <= 0.0)
-    safe_norm = np.where(sliding & (trial_norm > 0.0), trial_norm, 1.0)
-    scale = np.where(sliding, capacity / safe_norm, 1.0)
-    force = trial * scale[:, None]
-    new_slip = np.where(sliding[:, None], u - force / k, slip)
-    direction = trial / safe_norm[:, None]
-    projector = _EYE[u.shape[1]] - sliding[:, None, None] * (direction[:, :, None] * direction[:, None, :])
-    tangent = np.asarray(k, dtype=float)[..., None] * scale[:, None, None] * projector
-    return ReturnMap(force, new_slip, direction, sliding, tangent)
+    global _return_map
+    if _return_map is None:
+        from bearingfw.laws.friction_kernel import return_map as _return_map
+    n = u.shape[0]
+    k = np.asarray(k, dtype=float).reshape(-1)  # a scalar, (1,) or a column (n, 1): one value per connector
+    if k.size != n:
+        k = np.broadcast_to(k, (n,))
+    return ReturnMap(*_return_map(_kernel_input(k), _kernel_input(u), _kernel_input(slip), _kernel_input(capacity)))
+
+
+def _kernel_input(a) -> np.ndarray:
+    """``a`` as the compiled kernel takes it: a C-contiguous, writable float64 array (a read-only
+    one, e.g. a frozen parameter array or a state the purity check froze, is copied: numba types
+    it apart)."""
+    a = np.ascontiguousarray(a, dtype=float)
+    return a if a.flags.writeable else a.copy()
+
+
+#: the compiled return map, imported at the first call (numba's import is not free)
+_return_map = None
 
 
 @attrs.frozen
@@ -103,7 +108,7 @@ class RegularizedCoulomb:
 
     def respond(self, state, u, normal_force, dt) -> LawResponse:
         u, normal_force = respond_inputs(self, u, normal_force)
-        n, dims = u.shape
+        n = u.shape[0]
         k, mu = self.k, self.mu
         if isinstance(k, np.ndarray) or isinstance(mu, np.ndarray):
             check_per_bearing(self, n)
@@ -116,41 +121,8 @@ class RegularizedCoulomb:
                 f"{u.shape}: give the state of the same connectors (initial_state({u.shape[0]}))"
             )
         capacity = self.mu * np.maximum(normal_force, _ZERO)  # force_bound: normal_force is a float array
-        trial = k * (u - slip)
-        # |trial| per connector (in 1-D sqrt(t * t) is |t| exactly)
-        trial_norm = np.abs(trial[:, 0]) if dims == 1 else np.sqrt(np.einsum("ij,ij->i", trial, trial))
-        beyond = trial_norm > capacity
-        # (count_nonzero: one C call, a fraction of a ufunc reduction's cost at these sizes)
-        if np.count_nonzero(capacity > _ZERO) == n:  # every connector in contact with friction (the usual case)
-            n_beyond = np.count_nonzero(beyond)
-            if not n_beyond:
-                # every connector sticks: the map below with scale 1 and no slip, in closed form
-                tangent = np.empty((n, dims, dims))
-                tangent[...] = k[..., None] * _EYE[dims] if isinstance(k, np.ndarray) else k * _EYE[dims]
-                return LawResponse(trial, tangent, {"slip": slip}, dforce_dnormal=np.zeros((n, dims)))
-            if n_beyond == n:
-                # every connector slides (trial_norm > capacity > 0): the map below without its
-                # selections, the same operations on the same numbers
-                scale = capacity / trial_norm
-                force = trial * scale[:, None]
-                direction = trial / trial_norm[:, None]
-                if dims == 1:
-                    tangent = np.zeros((n, 1, 1))  # k scale (1 - 1)
-                else:
-                    column = scale[:, None, None]
-                    kscale = k[..., None] * column if isinstance(k, np.ndarray) else k * column
-                    tangent = kscale * (_EYE[dims] - direction[:, :, None] * direction[:, None, :])
-                mu = np.asarray(mu, dtype=float)[..., None] if isinstance(mu, np.ndarray) else mu
-                return LawResponse(force, tangent, {"slip": u - force / k}, dforce_dnormal=mu * direction)
-        if not isinstance(k, np.ndarray):
-            k = np.asarray(k, dtype=float)[..., None]
-        if not ((beyond | (capacity <= 0.0)).any()):
-            tangent = np.empty((n, dims, dims))
-            tangent[...] = k[..., None] * _EYE[dims]
-            return LawResponse(trial, tangent, {"slip": slip}, dforce_dnormal=np.zeros((n, dims)))
-        mu = np.asarray(mu, dtype=float)[..., None]
         force, new_slip, direction, sliding, tangent = friction_return_map(k, u, slip, capacity)
         # F = mu N n on the slip surface; zero in stick and without contact (N <= 0).
-        in_contact = sliding & (normal_force > 0.0)
-        dforce_dnormal = np.where(in_contact[:, None], mu * direction, 0.0)
+        mu = np.asarray(mu, dtype=float)[..., None] if isinstance(mu, np.ndarray) else mu
+        dforce_dnormal = np.where((sliding & (normal_force > 0.0))[:, None], mu * direction, 0.0)
         return LawResponse(force, tangent, {"slip": new_slip}, dforce_dnormal=dforce_dnormal)

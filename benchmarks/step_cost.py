@@ -36,7 +36,10 @@ effective matrix factorised the same way (as ``benchmarks/opensees.py`` measures
 ``step/bs``: ``CPU ms`` over ``bs CPU ms``, what a step costs in back-substitutions (the issue's
 measure: "a step costs 7.7 sparse back-substitutions"), next to the issue's ``target`` (at most
 3 at 3,000 DOFs with 20 bearings, at most 10 at 300 DOFs); ``load``: the load average after
-the case. The JSON has the wall-clock ratio too. The script reports; it asserts nothing.
+the case. Since issue 16 a step back-substitutes with bearingfw's compiled forward and backward
+substitution on SuperLU's factors (``hht.Factors``), about three times cheaper than SuperLU's
+own ``solve``; ``bs CPU ms`` times that one, ``SuperLU ms`` SuperLU's ``solve`` on the same
+factors (the unit of the issue's first measurements), and ``step/SLU`` the step in that unit. The JSON has the wall-clock ratio too. The script reports; it asserts nothing.
 ``--repeats R`` times the run and the bare back-substitution R times each and keeps the fastest
 of each (wall and CPU separately): on a busy machine the least disturbed run is the closest to
 the cost itself.
@@ -218,16 +221,21 @@ class Clocks:
         return (wall1 - wall0) / (n1 - n0), (cpu1 - cpu0) / (n1 - n0)
 
 
-def bare_backsubstitution(system, damping, dt: float, alpha: float, seconds: float = 0.3) -> tuple[float, float]:
+def bare_backsubstitution(
+    system, damping, dt: float, alpha: float, seconds: float = 0.3, superlu: bool = False
+) -> tuple[float, float]:
     """``(wall, CPU)`` seconds of one back-substitution of the run's effective matrix, factorised as
     the run factorises it (``benchmarks/opensees.py``'s ``_backsubstitution``, with the CPU clock:
-    on a loaded machine the wall clock counts the waits for a core)."""
+    on a loaded machine the wall clock counts the waits for a core): bearingfw's compiled one, which
+    a step makes, or with ``superlu`` SuperLU's own ``solve`` on the same factors (the unit the
+    issue's first measurements used)."""
     import numpy as np
 
     from bearingfw.analysis.hht import Scheme, effective_matrix, factor
 
     A = effective_matrix(system.M_free, system.K_free, damping.alpha, damping.beta, Scheme(alpha), dt)
-    solve = factor(A).solve
+    factors = factor(A)
+    solve = factors.lu.solve if superlu else factors.solve
     rhs = np.random.default_rng(0).normal(size=system.n_free)
     solve(rhs)
     repeats, wall, cpu = 0, time.perf_counter(), time.process_time()
@@ -266,7 +274,7 @@ def run_case(case: Case, steps: int, dt: float, threads: int, repeats: int = 1) 
     slip = counted.data["bearings.slip"]  # (t, bearings, 3)
     slipping = int((np.nanmax(np.linalg.norm(np.nan_to_num(slip), axis=2), axis=0) > SLIP).sum())
 
-    per_step = cpu_per_step = backsub = cpu_backsub = float("inf")
+    per_step = cpu_per_step = backsub = cpu_backsub = cpu_superlu = float("inf")
     for _ in range(repeats):
         clocks = Clocks(steps)
         timed = solve_transient(system, ag, dt, preload=preload, damping=damping, settings=settings, progress=clocks)
@@ -274,6 +282,7 @@ def run_case(case: Case, steps: int, dt: float, threads: int, repeats: int = 1) 
         per_step, cpu_per_step = min(per_step, wall), min(cpu_per_step, cpu)
         wall, cpu = bare_backsubstitution(system, damping, dt, settings.alpha)
         backsub, cpu_backsub = min(backsub, wall), min(cpu_backsub, cpu)
+        cpu_superlu = min(cpu_superlu, bare_backsubstitution(system, damping, dt, settings.alpha, superlu=True)[1])
     stats = timed.stats
     return {
         "dofs_asked": case.dofs,
@@ -296,7 +305,9 @@ def run_case(case: Case, steps: int, dt: float, threads: int, repeats: int = 1) 
         "cpu_ms_per_step": 1e3 * cpu_per_step,
         "backsub_ms": 1e3 * backsub,
         "cpu_backsub_ms": 1e3 * cpu_backsub,
+        "cpu_superlu_ms": 1e3 * cpu_superlu,
         "step_over_backsub": cpu_per_step / cpu_backsub,
+        "step_over_superlu": cpu_per_step / cpu_superlu,
         "wall_step_over_backsub": per_step / backsub,
         "target": case.target,
         "repeats": repeats,
@@ -394,6 +405,8 @@ COLUMNS = (  # header, width, format of a row's value
     ("CPU ms", 7, lambda r: f"{r['cpu_ms_per_step']:.3f}"),
     ("bs CPU ms", 9, lambda r: f"{r['cpu_backsub_ms']:.4f}"),
     ("step/bs", 7, lambda r: f"{r['step_over_backsub']:.1f}"),
+    ("SuperLU ms", 10, lambda r: f"{r['cpu_superlu_ms']:.4f}"),
+    ("step/SLU", 8, lambda r: f"{r['step_over_superlu']:.1f}"),
     ("target", 6, lambda r: "-" if r["target"] is None else f"<= {r['target']:.0f}"),
     ("load", 4, lambda r: f"{r['load_average']:.1f}"),
 )

@@ -110,3 +110,46 @@ def test_predict_and_commit_are_the_numpy_formulas(alpha, bearings):
     assert after.kinetic == terms[0] and after.strain == terms[1]
     assert after.damping == pytest.approx(3.0 + want[2], rel=1e-12)
     assert after.numerical == pytest.approx(6.0 + want[5] - (want[0] - 1.0) - want[6], rel=1e-12)
+
+
+def test_a_law_answering_with_read_only_arrays_runs_as_with_writable_ones(monkeypatch):
+    """A law may answer with shared, frozen arrays; the compiled kernels type those apart, so the
+    step hands them over writable (hht._writable): the run is the same to the bit."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from kernel_models import band_limited_noise, deck_model
+
+    from bearingfw.analysis import ConnectorResponse, Rayleigh, TransientSettings, gravity, solve_transient
+    from bearingfw.laws.coulomb import RegularizedCoulomb
+
+    import attrs
+
+    deck = deck_model("regularized-coulomb", {"k": 4e8, "mu": 0.04})
+    # every sliding bearing planar: one law group, whose arrays the step takes as they come
+    connectors = [attrs.evolve(c, kind="planar", guided=None) if c.law else c for c in deck.connectors]
+    model = attrs.evolve(deck, connectors=connectors)
+    assert len(gravity(model).system.connectors.groups) == 1
+    ag = band_limited_noise(81, 0.01, seed=3, amplitude=[4.0, 3.0, 2.0])
+
+    def run():
+        return solve_transient(
+            model, ag, 0.01, preload=gravity(model), damping=Rayleigh(0.21, 0.00208),
+            recorders=[ConnectorResponse()], settings=TransientSettings(dt_integration=0.005),
+        )  # fmt: skip
+
+    writable = run()
+    respond = RegularizedCoulomb.respond
+
+    def frozen(self, *args, **kwargs):
+        response = respond(self, *args, **kwargs)
+        for array in (response.force, response.tangent, response.dforce_dnormal):
+            array.setflags(write=False)
+        return response
+
+    monkeypatch.setattr(RegularizedCoulomb, "respond", frozen)
+    read_only = run()
+    assert read_only.completed and writable.stats["iterations"] > 0
+    for key in writable.keys():
+        assert np.array_equal(writable[key], read_only[key], equal_nan=True), key

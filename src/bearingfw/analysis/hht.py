@@ -690,6 +690,14 @@ def _stiffness(tangent: np.ndarray) -> float:
     return _inf(tangent)
 
 
+_NONE = np.zeros(0, dtype=np.int64)
+
+
+def _writable(a: np.ndarray) -> np.ndarray:
+    """A law's array as the compiled kernels take it (numba types a read-only array apart: a law may
+    answer with a shared, frozen one); the arrays here are already C-contiguous (``reshape(-1)``)."""
+    return a if a.flags.writeable else a.copy()
+
 #: what a solver returns instead of ``(tangents, coupling, jacobian, phi)`` (:func:`step`) when it has none
 _NOT_LINEARISED = (None, None, None, None)
 
@@ -817,8 +825,9 @@ def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, for
     rate = motion.rate
     respond, forces, law_states, f0, cSN = p.ops.respond, p.ops.forces, s.law_states, p.f0, op.cSN
     velocity = None if motion.Bvt is None else motion.velocity
-    # max(|d - d_n|, |d - d_0|), the motion the displacement test compares with, in one reduction
-    origins = np.stack((s.d, p.d0))
+    kernels = _kernels()
+    absorb, displacement_converged = kernels.absorb, kernels.displacement_converged
+    coupled_rows = p.coupled.astype(np.int64) if n_coupled else _NONE
 
     # one law group without velocity (the usual case): its force and tangent as they come
     single = len(p.ops.groups) == 1 and not p.ops.any_velocity
@@ -826,22 +835,17 @@ def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, for
     def evaluate(d: np.ndarray, N: np.ndarray) -> _FastTrial:
         responses = respond(law_states, d, N, h, velocity=None if velocity is None else velocity(p, d))
         if single:  # ConnectorOperators.forces and _tangent for one group
-            f = np.asarray(responses[0].force, dtype=float).reshape(-1)
-            tangent = np.asarray(responses[0].tangent, dtype=float).reshape(-1)
+            f = _writable(np.asarray(responses[0].force, dtype=float).reshape(-1))
+            tangent = _writable(np.asarray(responses[0].tangent, dtype=float).reshape(-1))
         else:
-            f = forces(responses)
-            tangent = _tangent(p, responses, rate)
-        phi = f - f0
-        sn = cSN @ phi  # c S phi and the normal forces' change, one product
-        g = d - d_lin + sn[:m]
-        N_new = N_lin + sn[m:]
-        finite = _finite(sn, tangent)
+            f = _writable(forces(responses))
+            tangent = _writable(_tangent(p, responses, rate))
+        # phi, g = d - d_lin + c S phi, N_new and the coupled springs' gap, from one product with cSN
+        phi, g, N_new, gap, merit, finite = absorb(cSN, m, f, f0, d, d_lin, N_lin, tangent, coupled_rows, kv_coupled, N)
+        merit = math.sqrt(merit)
         if not n_coupled:
-            merit = math.sqrt(g @ g)  # np.linalg.norm's own formula, without its dispatch
             return _FastTrial(d, N, responses, f, phi, tangent, g, N_new, merit, merit <= round_d, finite)
         E = _coupling(p, responses, N)
-        gap = (N[coupled] - N_new[coupled]) / kv_coupled
-        merit = math.sqrt(g @ g + gap @ gap)
         finite = finite and (E is None or _finite(E))
         return _FastTrial(d, N, responses, f, phi, tangent, g, N_new, merit, merit <= round_d, finite, E, gap)
 
@@ -860,7 +864,7 @@ def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, for
             raise StepFailure("singular condensed Jacobian", np.inf, np.abs(trial.g), it)
         d = trial.d
         # the tests, cheapest and most often failing first (each only when the one before passed)
-        if _inf(delta) <= p.tol_displacement * float(_max(np.abs(d - origins), axis=None)) + round_d:
+        if displacement_converged(delta, d, s.d, p.d0, p.tol_displacement, round_d):
             N, f = trial.N, trial.f
             # force residual: the linearisation c (K_t g + E h) of c B^T (phi(B x, N(x)) - phi(d, N))
             linear_residual = _tangent_times(p, tangent, trial.g)

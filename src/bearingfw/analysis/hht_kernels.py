@@ -24,6 +24,8 @@ step, not at its own import (numba's import costs a few tenths of a second).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -225,3 +227,63 @@ def times_tangent(matrix, tangent, starts, dims, offsets, identity):
         for i in range(min(rows, matrix.shape[1])):
             out[i, i] += 1.0
     return out
+
+
+# ---- a Newton iterate of the condensed bearing system (hht._solve_fast) -----------------------
+
+_ABSORB = (
+    f"Tuple(({_V}, {_V}, {_V}, {_V}, float64, boolean))("
+    f"{_M2}, int64, {_V}, {_V}, {_V}, {_V}, {_V}, {_V}, {_L}, {_V}, {_V})"
+)
+
+
+@njit(_ABSORB, cache=True)
+def absorb(cSN, m, f, f0, d, d_lin, N_lin, tangent, coupled, kv_coupled, N):
+    """What the law forces ``f`` and tangent (flat) at the iterate ``(d, N)`` give: ``phi = f - f_0``,
+    ``g = d - d_lin + c S phi``, ``N_new = N_lin + c kv (V W) phi`` (one product with ``cSN``), on
+    the ``coupled`` springs ``(N - N_new) / kv``, the squared residual norm ``|g|^2 (+ |gap|^2)``, and
+    whether the forces (through ``c S phi``) and the tangent are finite."""
+    rows = cSN.shape[0]
+    phi = np.empty(m)
+    for j in range(m):
+        phi[j] = f[j] - f0[j]
+    g = np.empty(m)
+    N_new = np.empty(rows - m)
+    finite = True
+    merit = 0.0
+    for r in range(rows):
+        total = 0.0
+        for j in range(m):
+            total += cSN[r, j] * phi[j]
+        if not math.isfinite(total):
+            finite = False
+        if r < m:
+            value = (d[r] - d_lin[r]) + total
+            g[r] = value
+            merit += value * value
+        else:
+            N_new[r - m] = N_lin[r - m] + total
+    for j in range(tangent.shape[0]):
+        if not math.isfinite(tangent[j]):
+            finite = False
+    gap = np.empty(coupled.shape[0])
+    for i in range(coupled.shape[0]):
+        value = (N[coupled[i]] - N_new[coupled[i]]) / kv_coupled[i]
+        gap[i] = value
+        merit += value * value
+    return phi, g, N_new, gap, merit, finite
+
+
+@njit(f"boolean({_V}, {_V}, {_V}, {_V}, float64, float64)", cache=True)
+def displacement_converged(delta, d, d_n, d0, tol, round_d):
+    """Newton's displacement test: ``max |delta| <= tol max(|d - d_n|, |d - d_0|) + round_d`` (false
+    when any of them is not a number, as numpy's comparison of a NaN maximum is)."""
+    largest = 0.0
+    moved = 0.0
+    for i in range(delta.shape[0]):
+        step, since_n, since_0 = abs(delta[i]), abs(d[i] - d_n[i]), abs(d[i] - d0[i])
+        if math.isnan(step) or math.isnan(since_n) or math.isnan(since_0):
+            return False
+        largest = max(largest, step)
+        moved = max(moved, since_n, since_0)
+    return largest <= tol * moved + round_d

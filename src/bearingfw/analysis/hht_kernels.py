@@ -17,9 +17,10 @@ product summed in another order). The bearing work is ``dx . B^T (phi_n + phi_{n
 which equals ``(B dx) . (phi_n + phi_{n+1}) / 2`` without the product with ``B``.
 
 Each kernel has one explicit signature (C-contiguous float64 arrays; CSR index arrays as uint32:
-an unsigned index needs no test for a negative one, which halves a sparse product's time), so one machine-code version is compiled and cached on disk (``cache=True``, in
-``__pycache__`` beside this file); :mod:`bearingfw.analysis.hht` imports this module at the first
-step, not at its own import (numba's import costs a few tenths of a second).
+an unsigned index needs no test for a negative one, which halves a sparse product's time), so one
+machine-code version is compiled and cached on disk (:func:`bearingfw.jit.kernel`);
+:mod:`bearingfw.analysis.hht` imports this module at the first step, not at its own import
+(numba's import costs a few tenths of a second).
 """
 
 from __future__ import annotations
@@ -27,7 +28,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from bearingfw.jit import kernel
 
 _V = "float64[::1]"
 _M2 = "float64[:, ::1]"
@@ -38,7 +40,7 @@ _I = "uint32[::1]"
 _PREDICT = f"void({_M2}, {_M3}, {_M2}, {_V}, {_V}, {_V}, {_V}, float64, float64, {_M2})"
 
 
-@njit(_PREDICT, cache=True)
+@kernel(_PREDICT)
 def predict(xva, products, T, weights, load1, load0, Bt_phi, c, alpha, out):
     """Newmark's predictors ``[xt; vt] = T [x; v; a]`` and the right-hand side
     ``r = weights . [M x, M v, M a, K x, K v, K a] + c F_{n+1} - alpha F_n + alpha B^T phi_n``
@@ -80,7 +82,7 @@ _COMMIT = (
 )
 
 
-@njit(_COMMIT, cache=True)
+@kernel(_COMMIT)
 def commit(
     x, xt, vt, xva_n, products_n, T, mk_indptr, mk_indices, mk_data,
     bt_indptr, bt_indices, bt_data, phi, has_bearings,
@@ -159,7 +161,7 @@ def commit(
 _BACK = f"void({_I}, {_I}, {_V}, {_I}, {_I}, {_V}, {_I}, {_I}, {_V}, {_V})"
 
 
-@njit(_BACK, cache=True)
+@kernel(_BACK)
 def back_substitute(l_indptr, l_indices, l_data, u_indptr, u_indices, u_data, perm_r, perm_c, b, out):
     """``A^-1 b`` into ``out`` from SuperLU's factors ``P_r A P_c = L U`` (scipy's ``splu``: ``L``
     unit lower and ``U`` upper triangular, as CSC with sorted rows, so a column of ``L`` starts
@@ -195,7 +197,7 @@ def back_substitute(l_indptr, l_indices, l_data, u_indptr, u_indices, u_data, pe
 _L = "int64[::1]"
 
 
-@njit(f"{_V}({_V}, {_L}, {_L}, {_L}, {_V})", cache=True)
+@kernel(f"{_V}({_V}, {_L}, {_L}, {_L}, {_V})")
 def tangent_times(tangent, starts, dims, offsets, vector):
     """``K_t @ vector``."""
     out = np.empty(vector.shape[0])
@@ -209,7 +211,7 @@ def tangent_times(tangent, starts, dims, offsets, vector):
     return out
 
 
-@njit(f"{_M2}({_M2}, {_V}, {_L}, {_L}, {_L}, boolean)", cache=True)
+@kernel(f"{_M2}({_M2}, {_V}, {_L}, {_L}, {_L}, boolean)")
 def times_tangent(matrix, tangent, starts, dims, offsets, identity):
     """``matrix @ K_t`` (``matrix``: rows x m), plus the identity in its leading square when
     ``identity`` (the condensed Jacobian ``I + c S K_t``)."""
@@ -237,7 +239,7 @@ _ABSORB = (
 )
 
 
-@njit(_ABSORB, cache=True)
+@kernel(_ABSORB)
 def absorb(cSN, m, f, f0, d, d_lin, N_lin, tangent, coupled, kv_coupled, N):
     """What the law forces ``f`` and tangent (flat) at the iterate ``(d, N)`` give: ``phi = f - f_0``,
     ``g = d - d_lin + c S phi``, ``N_new = N_lin + c kv (V W) phi`` (one product with ``cSN``), on
@@ -274,7 +276,7 @@ def absorb(cSN, m, f, f0, d, d_lin, N_lin, tangent, coupled, kv_coupled, N):
     return phi, g, N_new, gap, merit, finite
 
 
-@njit(f"boolean({_V}, {_V}, {_V}, {_V}, float64, float64)", cache=True)
+@kernel(f"boolean({_V}, {_V}, {_V}, {_V}, float64, float64)")
 def displacement_converged(delta, d, d_n, d0, tol, round_d):
     """Newton's displacement test: ``max |delta| <= tol max(|d - d_n|, |d - d_0|) + round_d`` (false
     when any of them is not a number, as numpy's comparison of a NaN maximum is)."""

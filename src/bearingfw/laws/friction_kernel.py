@@ -4,7 +4,8 @@ One connector per iteration of a plain loop, with the formulas of
 :mod:`bearingfw.laws.coulomb`'s docstring written as its former numpy code evaluated them (the
 same operations in the same order, so the same bits): a law call of a few connectors cost 50-70
 us of numpy dispatch for a few hundred floating-point operations (issue 16). The kernel has one
-explicit signature (C-contiguous float64 arrays), compiled once and cached on disk; the laws
+explicit signature (C-contiguous float64 arrays), compiled once and cached on disk
+(:func:`bearingfw.jit.kernel`); the laws
 import this module at their first ``respond``.
 """
 
@@ -13,7 +14,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from bearingfw.jit import kernel
 
 _SIGNATURE = (
     "Tuple((float64[:, ::1], float64[:, ::1], float64[:, ::1], boolean[::1], float64[:, :, ::1]))"
@@ -21,7 +23,7 @@ _SIGNATURE = (
 )
 
 
-@njit(_SIGNATURE, cache=True)
+@kernel(_SIGNATURE)
 def return_map(k, u, slip, capacity):
     """``(force, new slip, direction, sliding, tangent)`` for stick stiffnesses ``k`` (n,), law
     displacements ``u`` and slips ``slip`` (n, dims) and slip-surface radii ``capacity`` (n,)."""

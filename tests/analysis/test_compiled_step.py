@@ -153,3 +153,70 @@ def test_a_law_answering_with_read_only_arrays_runs_as_with_writable_ones(monkey
     assert read_only.completed and writable.stats["iterations"] > 0
     for key in writable.keys():
         assert np.array_equal(writable[key], read_only[key], equal_nan=True), key
+
+
+def test_factors_refuse_a_vector_of_another_size_and_take_a_read_only_one():
+    A = (sp.random(50, 50, density=0.1, random_state=2) + sp.eye(50) * 5.0).tocsc()
+    factors = hht.factor(A)
+    for n in (49, 51):
+        with pytest.raises(ValueError):
+            factors.solve(np.ones(n))
+    b = np.linspace(0.0, 1.0, 50)
+    b.setflags(write=False)
+    _close(factors.solve(b), factors.lu.solve(b))
+
+
+def _planar_deck():
+    import sys
+    from pathlib import Path
+
+    import attrs
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from kernel_models import deck_model
+
+    deck = deck_model("regularized-coulomb", {"k": 4e8, "mu": 0.04})
+    return attrs.evolve(deck, connectors=[attrs.evolve(c, kind="planar", guided=None) if c.law else c for c in deck.connectors])
+
+
+@pytest.mark.parametrize("answer", ["strided", "frozen"])
+@pytest.mark.parametrize("bearings", ["set-after-dead-load", "active"])
+def test_a_law_answering_with_strided_or_frozen_arrays_runs_as_with_plain_ones(answer, bearings, monkeypatch):
+    """The law protocol asks for arrays of a shape, not a layout: a view of a wider work array, or a
+    frozen array (also as the preload's law forces, with bearings active under the dead load)."""
+    from kernel_models import band_limited_noise
+
+    from bearingfw.analysis import ConnectorResponse, Rayleigh, TransientSettings, gravity, solve_transient
+    from bearingfw.laws.coulomb import RegularizedCoulomb
+    from bearingfw.protocol import LawResponse
+
+    model = _planar_deck()
+    ag = band_limited_noise(61, 0.01, seed=5, amplitude=[4.0, 3.0, 2.0])
+
+    def run():
+        return solve_transient(
+            model, ag, 0.01, preload=gravity(model, bearings=bearings), damping=Rayleigh(0.21, 0.00208),
+            recorders=[ConnectorResponse()], settings=TransientSettings(dt_integration=0.005),
+        )  # fmt: skip
+
+    plain = run()
+    respond = RegularizedCoulomb.respond
+
+    def odd(self, *args, **kwargs):
+        r = respond(self, *args, **kwargs)
+        if answer == "frozen":
+            for array in (r.force, r.tangent, r.dforce_dnormal):
+                array.setflags(write=False)
+            return r
+        n, dims = r.force.shape
+        work = np.zeros((n, 2 * dims))  # the force a column view of a wider array
+        work[:, :dims] = r.force
+        tangent = np.zeros((n, dims, 2 * dims))
+        tangent[:, :, :dims] = r.tangent
+        return LawResponse(work[:, :dims], tangent[:, :, :dims], r.state, dforce_dnormal=r.dforce_dnormal)
+
+    monkeypatch.setattr(RegularizedCoulomb, "respond", odd)
+    other = run()
+    assert other.completed and plain.stats["iterations"] > 0
+    for key in plain.keys():
+        assert np.array_equal(plain[key], other[key], equal_nan=True), key

@@ -48,3 +48,19 @@ def test_a_read_only_or_strided_input_is_accepted():
     got = friction_return_map(k, u, slip, np.full(3, 5e4))
     want = numpy_return_map(k, u, slip, np.full(3, 5e4))
     assert all(np.array_equal(a, b) for a, b in zip(got, want, strict=True))
+
+
+@pytest.mark.parametrize("capacity", [5e4, np.float64(5e4), np.array([5e4]), np.full(4, 5e4)])
+@pytest.mark.parametrize("slip_shape", ["full", "one row", "scalar"])
+def test_capacity_and_slip_broadcast_as_the_numpy_map_did(capacity, slip_shape):
+    """A plugin may use the map with one yield force for all its connectors, or one slip row: the
+    compiled loop must not read past a length-1 array (it read memory beyond it)."""
+    rng = np.random.default_rng(3)
+    u = rng.normal(0, 2e-3, (4, 2))
+    slip = {"full": np.full((4, 2), 1e-4), "one row": np.full((1, 2), 1e-4), "scalar": 1e-4}[slip_shape]
+    got = friction_return_map(4e8, u, slip, capacity)
+    want = numpy_return_map(4e8, u, slip, capacity)
+    for name, a, b in zip(got._fields, got, want, strict=True):
+        assert a.shape == b.shape and np.array_equal(a, b), name
+    with pytest.raises(ValueError):
+        friction_return_map(4e8, u, np.zeros((3, 2)), capacity)  # a slip of other connectors

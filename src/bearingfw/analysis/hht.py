@@ -290,6 +290,10 @@ class Problem:
     per_step_size: dict = attrs.field(init=False, factory=dict, repr=False)
 
     def __attrs_post_init__(self):
+        # the compiled step takes these as writable, contiguous float64 arrays: a preload with active
+        # bearings hands over the law's own (possibly frozen or strided) force array as f0
+        for name in ("kv", "d0", "f0", "N0"):
+            object.__setattr__(self, name, _kernel_array(getattr(self, name)))
         object.__setattr__(self, "mul", Products.of(self.M, self.K, self.B, self.Bt, self.V))
         object.__setattr__(self, "csr", (_csr32(sp.vstack([self.M, self.K])), _csr32(self.Bt)))
         object.__setattr__(self, "layout", _layout(self.ops))
@@ -372,8 +376,11 @@ class Factors:
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         """``A^-1 b`` (``b`` a vector, or a matrix of right-hand sides as columns)."""
-        if not self._compiled or b.ndim != 1 or b.dtype != np.float64 or not b.flags.c_contiguous:
-            return self.lu.solve(b)
+        if (
+            not self._compiled or type(b) is not np.ndarray or b.ndim != 1 or b.shape[0] != self.shape[0]
+            or b.dtype != np.float64 or not b.flags.c_contiguous or not b.flags.writeable
+        ):  # fmt: skip
+            return self.lu.solve(b)  # SuperLU: also says what is wrong with a vector of another size
         if self._kernel is None:
             self._kernel = _kernels().back_substitute
         out = np.empty(b.shape[0])
@@ -694,9 +701,17 @@ _NONE = np.zeros(0, dtype=np.int64)
 
 
 def _writable(a: np.ndarray) -> np.ndarray:
-    """A law's array as the compiled kernels take it (numba types a read-only array apart: a law may
-    answer with a shared, frozen one); the arrays here are already C-contiguous (``reshape(-1)``)."""
-    return a if a.flags.writeable else a.copy()
+    """A law's array as the compiled kernels take it: writable and C-contiguous float64 (numba types
+    a read-only or strided array apart, and a law may answer with a shared, frozen array or a view
+    of a column; ``reshape(-1)`` of such a view is strided)."""
+    return _kernel_array(a)
+
+
+def _kernel_array(a) -> np.ndarray:
+    """``a`` as a writable, C-contiguous float64 array (itself when it is one already)."""
+    if type(a) is np.ndarray and a.dtype == np.float64 and a.flags.writeable and a.flags.c_contiguous:
+        return a
+    return np.array(a, dtype=np.float64, order="C")
 
 #: what a solver returns instead of ``(tangents, coupling, jacobian, phi)`` (:func:`step`) when it has none
 _NOT_LINEARISED = (None, None, None, None)
@@ -986,7 +1001,8 @@ def _solve_general(
         if not trial.finite:
             raise StepFailure("a law returned a non-finite force or tangent", np.inf, ~np.isfinite(trial.f), it)
         try:
-            dx = -factor(_general_jacobian(p, op, trial, motion.rate)).solve(trial.R)
+            # a new tangent each iteration, solved once: SuperLU's own solve (no compiled copy of its factors)
+            dx = -factorize(_general_jacobian(p, op, trial, motion.rate), ordering=SYMMETRIC_ORDERING).solve(trial.R)
         except (ModelError, RuntimeError):  # a singular tangent: name the bearings most out of balance
             raise StepFailure("singular tangent matrix", np.inf, np.abs(p.mul.B @ trial.R), it) from None
         delta = p.mul.B @ dx

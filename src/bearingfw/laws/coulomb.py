@@ -60,10 +60,14 @@ def friction_return_map(k, u: np.ndarray, slip: np.ndarray, capacity: np.ndarray
     global _return_map
     if _return_map is None:
         from bearingfw.laws.friction_kernel import return_map as _return_map
+    u = np.asarray(u, dtype=float)
     n = u.shape[0]
     k = np.asarray(k, dtype=float).reshape(-1)  # a scalar, (1,) or a column (n, 1): one value per connector
     if k.size != n:
         k = np.broadcast_to(k, (n,))
+    # broadcast as the numpy formulas did (a wrong shape raises numpy's ValueError, as it did)
+    slip = np.broadcast_to(np.asarray(slip, dtype=float), u.shape)
+    capacity = np.broadcast_to(np.asarray(capacity, dtype=float), (n,))
     return ReturnMap(*_return_map(_kernel_input(k), _kernel_input(u), _kernel_input(slip), _kernel_input(capacity)))
 
 

@@ -13,7 +13,7 @@ def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "record",
         help="inspect ground-motion records",
-        description="Inspect ground-motion records: read files (PEER .AT2, CSV/whitespace columns, .npz, "
+        description="Inspect ground-motion records: read files (PEER .AT2, NIED K-NET/KiK-net, CSV/whitespace columns, .npz, "
         "or any format a plugin registers) or generate the synthetic mining tremor.",
     )
     commands = parser.add_subparsers(dest="record_command", metavar="SUBCOMMAND")

@@ -1,5 +1,6 @@
-"""The built-in record readers (PEER ``.AT2``, CSV/whitespace columns, NumPy ``.npz``) and
-:func:`read_record`, which turns one or more files into a :class:`~bearingfw.motion.Record`.
+"""The built-in record readers (PEER ``.AT2``, NIED K-NET/KiK-net ASCII, CSV/whitespace columns,
+NumPy ``.npz``) and :func:`read_record`, which turns one or more files into a
+:class:`~bearingfw.motion.Record`.
 
 Every reader returns :class:`~bearingfw.motion.Trace` objects in the file's own units and
 time step; unit conversion, resampling and padding happen once, in
@@ -32,8 +33,11 @@ from bearingfw.plugins.contracts import RecordReader
 __all__ = [
     "AT2_READER",
     "COLUMNS_READER",
+    "KNET_READER",
     "NPZ_READER",
     "DT_RANGE",
+    "KNET_PEAK_RTOL",
+    "KNET_SAMPLE_SLACK",
     "MAX_ACCELERATION",
     "MAX_DURATION",
     "MAX_SAMPLES",
@@ -43,6 +47,7 @@ __all__ = [
     "read_at2",
     "read_columns",
     "read_file",
+    "read_knet",
     "read_npz",
     "read_record",
     "vertical_evidence",
@@ -344,6 +349,248 @@ def read_at2(path: str | Path, *, dt: float | None = None, units: str | None = N
     label = lines[1].rsplit(",", 1)[-1].strip() if "," in lines[1] else ""
     header = [line.rstrip() for line in lines[:4]]
     return [Trace(np.array(values), file_dt, file_units, label=label, metadata={"header": header, "format": "peer-at2"})]
+
+
+# -- NIED K-NET / KiK-net ASCII ---------------------------------------------------------------
+
+#: The 17 header lines of a K-NET/KiK-net ASCII file, in order: a label, then its value (from
+#: column 19). Only the lines the reader uses are checked; the others are kept as metadata.
+_KNET_LABELS = (
+    "Origin Time", "Lat.", "Long.", "Depth. (km)", "Mag.", "Station Code", "Station Lat.", "Station Long.",
+    "Station Height(m)", "Record Time", "Sampling Freq(Hz)", "Duration Time(s)", "Dir.", "Scale Factor",
+    "Max. Acc. (gal)", "Last Correction", "Memo.",
+)
+_KNET_HEADER_LINES = len(_KNET_LABELS)
+#: What the lines the reader uses must look like (for the error message).
+_KNET_EXPECTED = {
+    "Origin Time": "'Origin Time  <yyyy/mm/dd hh:mm:ss>'",
+    "Sampling Freq(Hz)": "'Sampling Freq(Hz) <f>Hz' with f > 0, e.g. '100Hz'",
+    "Duration Time(s)": "'Duration Time(s)  <s>' with s >= 0",
+    "Dir.": "'Dir.  N-S', 'E-W', 'U-D' or a KiK-net channel 1 .. 6",
+    "Scale Factor": "'Scale Factor  <numerator>(gal)/<denominator>', both > 0",
+    "Max. Acc. (gal)": "'Max. Acc. (gal)  <peak>' with peak >= 0",
+    "Memo.": "'Memo.' (the last of the 17 header lines; its text is optional)",
+}
+#: KiK-net numbers its channels: 1-3 the borehole sensor, 4-6 the surface one.
+_KIKNET_CHANNELS = {
+    "1": ("NS", "borehole"), "2": ("EW", "borehole"), "3": ("UD", "borehole"),
+    "4": ("NS", "surface"), "5": ("EW", "surface"), "6": ("UD", "surface"),
+}
+_KNET_DIRECTIONS = ("NS", "EW", "UD")
+
+#: Samples a K-NET file may hold beyond ``Duration Time(s) x Sampling Freq(Hz)`` either way. NIED
+#: files hold that product exactly (AOM002 of 2018-01-24: 108 s x 100 Hz = 10800 samples) or one
+#: more; a little slack forgives a writer that rounds the other way, while a truncated or
+#: concatenated file still fails.
+KNET_SAMPLE_SLACK = 2
+#: Relative tolerance of the header's ``Max. Acc. (gal)`` against the peak of the data after
+#: scaling and removing the mean (besides half a unit of its last printed digit): beyond it the
+#: scale factor is wrong or the file corrupt.
+KNET_PEAK_RTOL = 0.01
+
+_KNET_FREQUENCY = re.compile(rf"(?P<number>{_NUMBER})\s*(?:Hz)?", re.IGNORECASE | re.ASCII)
+_KNET_SCALE = re.compile(
+    rf"(?P<numerator>{_NUMBER})\s*(?:\(\s*(?P<unit>[^()]*?)\s*\))?\s*/\s*(?P<denominator>{_NUMBER})",
+    re.IGNORECASE | re.ASCII,
+)
+_KNET_COUNT = re.compile(r"[+-]?\d+", re.ASCII)
+#: Digits a count may have: K-NET counts have at most 8; more is junk (and could overflow a float).
+_KNET_COUNT_DIGITS = 15
+
+
+def _knet_label(label: str) -> re.Pattern:
+    """``label`` as it may be written: its letters and digits in order, case aside, with any
+    punctuation or spaces between them (NIED's own page writes ``Max Acc. (gal)`` and ``Lon.``,
+    files ``Max. Acc. (gal)`` and ``Long.``), and the punctuation that closes it, then a space or
+    the end of the line (``Memorandum`` is not ``Memo.``)."""
+    key = re.sub(r"[^0-9a-z]", "", label.lower())
+    return re.compile(r"\s*" + r"[\W_]*".join(re.escape(c) for c in key) + r"[^\w\s]*(?=\s|$)", re.IGNORECASE)
+
+
+def _knet_value(path: Path, lines: list[str], label: str) -> str:
+    """The value of the header line ``label`` (at its fixed place in the 17-line header)."""
+    number = _KNET_LABELS.index(label) + 1
+    text = lines[number - 1]
+    match = _knet_label(label).match(text)
+    if match is None:
+        raise RecordFormatError(path, number, f"expected {_KNET_EXPECTED[label]}, got {text.strip()!r}")
+    return text[match.end():].strip()
+
+
+def _knet_malformed(path: Path, label: str, value: str) -> RecordFormatError:
+    return RecordFormatError(
+        path, _KNET_LABELS.index(label) + 1, f"expected {_KNET_EXPECTED[label]}, got {label} {value!r}"
+    )
+
+
+def _knet_positive(path: Path, label: str, value: str, number_text: str, allow_zero: bool = False) -> float:
+    """A header number that must be > 0 (>= 0 with ``allow_zero``)."""
+    line = _KNET_LABELS.index(label) + 1
+    if not _NUMBER_RE.fullmatch(number_text):
+        raise _knet_malformed(path, label, value)
+    number = _number(number_text, path, line)
+    if number < 0 or (number == 0 and not allow_zero):
+        raise _knet_malformed(path, label, value)
+    return number
+
+
+def _knet_frequency(path: Path, lines: list[str]) -> float:
+    """The sampling frequency in Hz ("100Hz", "100", "200 Hz")."""
+    label = "Sampling Freq(Hz)"
+    value = _knet_value(path, lines, label)
+    found = _KNET_FREQUENCY.fullmatch(value)
+    if not found:
+        raise _knet_malformed(path, label, value)
+    return _knet_positive(path, label, value, found["number"])
+
+
+def _knet_scale(path: Path, lines: list[str]) -> tuple[float, str | None, str]:
+    """The scale factor ``numerator/denominator`` (counts to the numerator's unit), the unit as
+    written (None if the numerator has none) and the text."""
+    label = "Scale Factor"
+    value = _knet_value(path, lines, label)
+    found = _KNET_SCALE.fullmatch(value)
+    if not found:
+        raise _knet_malformed(path, label, value)
+    numerator = _knet_positive(path, label, value, found["numerator"])
+    denominator = _knet_positive(path, label, value, found["denominator"])
+    factor = numerator / denominator
+    if not math.isfinite(factor) or factor == 0:
+        raise _knet_malformed(path, label, value)
+    return factor, found["unit"], value
+
+
+def _knet_direction(path: Path, lines: list[str]) -> tuple[str, str | None]:
+    """The component ``NS``, ``EW`` or ``UD`` and, for a numbered KiK-net channel, its sensor
+    ("borehole" or "surface"; None when the header does not say)."""
+    label = "Dir."
+    value = _knet_value(path, lines, label)
+    if value in _KIKNET_CHANNELS:
+        return _KIKNET_CHANNELS[value]
+    code = value.replace("-", "").upper()
+    if code not in _KNET_DIRECTIONS:
+        raise _knet_malformed(path, label, value)
+    return code, None
+
+
+def _knet_counts(path: Path, lines: list[str]) -> tuple[np.ndarray, int]:
+    """The integer counts after the header, and the line of the last one."""
+    counts: list[int] = []
+    last_line = _KNET_HEADER_LINES
+    for number, text in enumerate(lines[_KNET_HEADER_LINES:], start=_KNET_HEADER_LINES + 1):
+        tokens = text.split()
+        for token in tokens:
+            if not _KNET_COUNT.fullmatch(token):
+                raise RecordFormatError(path, number, f"{token!r} is not an integer count (K-NET data are whole numbers)")
+            if len(token.lstrip("+-")) > _KNET_COUNT_DIGITS:
+                raise RecordFormatError(path, number, f"count {token} has more than {_KNET_COUNT_DIGITS} digits")
+        if tokens:
+            counts.extend(int(token) for token in tokens)
+            last_line = number
+    if not counts:
+        raise RecordFormatError(
+            path, _KNET_HEADER_LINES + 1, "no data after the 17-line header: expected integer counts, 8 a line"
+        )
+    return np.array(counts, dtype=float), last_line
+
+
+def _check_knet_samples(path: Path, n: int, duration: float, frequency: float, line: int) -> None:
+    """The number of samples must be ``Duration Time(s) x Sampling Freq(Hz)``, give or take
+    :data:`KNET_SAMPLE_SLACK`."""
+    expected = duration * frequency
+    if abs(n - expected) > KNET_SAMPLE_SLACK:
+        raise RecordFormatError(
+            path, line,
+            f"{n} samples, but the header says {duration:g} s at {frequency:g} Hz = {expected:g} samples "
+            f"(allowed: {KNET_SAMPLE_SLACK} more or fewer; line {_KNET_LABELS.index('Duration Time(s)') + 1}): "
+            "a truncated or corrupt file?",
+        )
+
+
+def _check_knet_peak(path: Path, lines: list[str], values: np.ndarray, units: str) -> None:
+    """The header's ``Max. Acc. (gal)`` must be the data's peak (after scaling and removing the
+    mean) within :data:`KNET_PEAK_RTOL` and half a unit of its last printed digit."""
+    label = "Max. Acc. (gal)"
+    value = _knet_value(path, lines, label)
+    stated = _knet_positive(path, label, value, value, allow_zero=True)
+    decimals = len(value.partition(".")[2]) if "." in value else 0
+    in_gal = float(np.max(np.abs(values))) * UNIT_FACTORS[units] / UNIT_FACTORS["cm/s^2"]
+    if abs(in_gal - stated) > KNET_PEAK_RTOL * stated + 0.5 * 10.0**-decimals:
+        raise RecordFormatError(
+            path, _KNET_LABELS.index(label) + 1,
+            f"the data's peak after scaling and removing the mean is {in_gal:.6g} gal but the header states "
+            f"{value} gal (more than {KNET_PEAK_RTOL:.0%} apart): a wrong scale factor or a corrupt file",
+        )
+
+
+def _sniff_knet(path: Path) -> bool:
+    try:
+        head = _lines(path, limit=4096)[:_KNET_HEADER_LINES]
+    except RecordFormatError:
+        return False
+    return (
+        bool(head) and head[0].startswith("Origin Time")
+        and any(line.startswith("Scale Factor") for line in head)
+        and any(line.startswith("Sampling Freq") for line in head)
+    )
+
+
+def read_knet(path: str | Path, *, dt: float | None = None, units: str | None = None) -> list[Trace]:
+    """One component from an NIED K-NET or KiK-net ASCII file (``.NS``, ``.EW``, ``.UD``; KiK-net
+    ``.NS1`` ... ``.UD1`` borehole, ``.NS2`` ... ``.UD2`` surface).
+
+    A 17-line header of ``label  value`` lines (``Origin Time`` ... ``Memo.``), then integer counts,
+    8 a line. Acceleration = counts x the ``Scale Factor`` ``<numerator>(gal)/<denominator>``, in
+    the numerator's unit (gal, i.e. cm/s^2); the time step is 1 / ``Sampling Freq(Hz)``
+    (``100Hz``). The counts carry an offset, so the mean of the whole record is removed, as NIED
+    describes and common tools do; the header's ``Max. Acc. (gal)`` must then agree with the peak
+    (:data:`KNET_PEAK_RTOL`), and the number of samples with ``Duration Time(s)`` x the frequency
+    (:data:`KNET_SAMPLE_SLACK`). ``Dir.`` (``N-S``, ``E-W``, ``U-D``, or KiK-net's channels
+    1 .. 6) gives the label ``NS``, ``EW`` or ``UD`` (with ``1``/``2`` appended for a numbered
+    KiK-net borehole/surface channel), so that a ``U-D`` file counts as vertical. ``dt`` and
+    ``units``, if given, must agree with the header.
+    """
+    path = Path(path)
+    lines = _lines(path)
+    if lines:  # first: a file of another format given a K-NET suffix is told so at once
+        _knet_value(path, lines, "Origin Time")
+    if len(lines) < _KNET_HEADER_LINES:
+        raise RecordFormatError(path, len(lines) + 1, f"the file ends inside the {_KNET_HEADER_LINES}-line K-NET header")
+    # In line order, so that a missing line is reported where it should be.
+    frequency = _knet_frequency(path, lines)
+    duration_text = _knet_value(path, lines, "Duration Time(s)")
+    duration = _knet_positive(path, "Duration Time(s)", duration_text, duration_text, allow_zero=True)
+    direction, sensor = _knet_direction(path, lines)
+    factor, unit, scale_text = _knet_scale(path, lines)
+    _knet_value(path, lines, "Memo.")
+
+    line = _KNET_LABELS.index("Sampling Freq(Hz)") + 1
+    header_dt = _checked_dt(1.0 / frequency, path, line, "1 / Sampling Freq(Hz)")
+    file_dt = _resolve_dt(path, [_Stated(header_dt, "the header (Sampling Freq)", line)], dt, "")
+    line = _KNET_LABELS.index("Scale Factor") + 1
+    # The format gives counts in gal; a numerator without its unit in brackets means gal.
+    file_units = _resolve_units(path, _Stated(unit or "gal", "the Scale Factor", line), units, "")
+
+    counts, last_line = _knet_counts(path, lines)
+    if counts.size < 2:
+        raise RecordFormatError(path, last_line, f"{counts.size} sample; a record needs at least 2")
+    _check_knet_samples(path, counts.size, duration, frequency, last_line)
+    _check_extent(path, counts.size, file_dt, last_line)
+    offset = float(np.mean(counts))
+    values = (counts - offset) * factor
+    _check_knet_peak(path, lines, values, file_units)
+
+    meta: dict[str, Any] = {
+        "format": "knet",
+        "header": [text.rstrip() for text in lines[:_KNET_HEADER_LINES]],
+        "direction": direction,
+        "scale": scale_text,
+        "offset_removed": offset * factor,  # in the trace's units
+    }
+    if sensor is not None:
+        meta["sensor"] = sensor
+    label = direction + {"borehole": "1", "surface": "2", None: ""}[sensor]
+    return [Trace(values, file_dt, file_units, label=label, metadata=meta)]
 
 
 # -- columns (CSV, whitespace) ----------------------------------------------------------------
@@ -704,6 +951,13 @@ COLUMNS_READER = RecordReader(
     sniff=_sniff_columns,
     description="text columns (CSV, ';', tab or spaces), optional time column, units in names or comments",
 )
+KNET_READER = RecordReader(
+    name="knet",
+    suffixes=(".ns", ".ew", ".ud", ".ns1", ".ew1", ".ud1", ".ns2", ".ew2", ".ud2"),
+    read=read_knet,
+    sniff=_sniff_knet,
+    description="NIED K-NET/KiK-net ASCII file, one component (counts x scale factor, mean removed; gal)",
+)
 NPZ_READER = RecordReader(
     name="npz",
     suffixes=(".npz",),
@@ -859,15 +1113,18 @@ def _trace_frequency(trace: Trace) -> float | None:
 
 def vertical_evidence(trace: Trace, path: str | Path, count: int, others: Sequence[Trace] = ()) -> list[Evidence]:
     """Why ``trace`` (read from ``path``, a file of ``count`` components) looks vertical: its file
-    name (one-component files only), its label (PEER header, column or array name) and its
+    name (one-component files only), its label (PEER header, K-NET ``Dir.``, column or array name) and its
     amplitudes against ``others``, the other components of the event (see
     :mod:`bearingfw.motion.vertical`). Empty if nothing says so."""
     found = []
     if count == 1:
         found.append(name_evidence(path))
-    header = trace.metadata.get("header") if trace.metadata.get("format") == "peer-at2" else None
-    what = {"columns": "column name", "npz": "array name"}.get(trace.metadata.get("format"), "label")
-    found.append(label_evidence(trace.label, header=header, what=what))
+    form = trace.metadata.get("format")
+    header = trace.metadata.get("header") if form == "peer-at2" else None
+    what = {"columns": "column name", "npz": "array name", "knet": "K-NET direction (Dir.)"}.get(form, "label")
+    # A KiK-net label may end in its sensor digit ("UD1"): the direction alone is the code.
+    label = trace.metadata.get("direction", trace.label) if form == "knet" else trace.label
+    found.append(label_evidence(label, header=header, what=what))
     if others:
         compared = [(o.label or f"component {i + 1}", peak(o.in_si()), _trace_frequency(o)) for i, o in enumerate(others)]
         found.append(amplitude_evidence(peak(trace.in_si()), _trace_frequency(trace), compared))

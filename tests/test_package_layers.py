@@ -19,7 +19,7 @@ ROOT = Path(bearingfw.__file__).parent
 
 #: Lowest first; a package may import its own rank and below.
 RANK = {
-    "protocol": 0, "parameters": 0,
+    "protocol": 0, "parameters": 0, "jit": 0,
     "plugins": 1, "plotting": 1,
     "laws": 2, "testing": 2,
     "model": 3,

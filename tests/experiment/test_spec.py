@@ -100,7 +100,7 @@ BASE = 'name = "x"\n[models.M2]\npreset = "M2"\n[records.r]\nseed = 0\n'
         (BASE + "[figures]\nintensities = ['D_V']\n", "figures.intensities: 'D_V' is not among D_0"),
         (BASE + "[figures]\ndraw = 1\n", "figures.draw: field 'draw' must be true or false"),
         ('reference = "M7"\n' + BASE, "reference: 'M7' is not a model; models: M2"),
-        ('name = "a b"\n' + BASE[len('name = "x"\n'):], "name: field 'name' must be a name of letters"),
+        ('name = "a b"\n' + BASE[len('name = "x"\n'):], "name: field 'name' must be a name of at most 64 letters"),
         (BASE.replace('name = "x"\n', ""), "name: missing"),
         ('name = "x"\n[records.r]\nseed = 0\n', "models: the experiment needs at least one [models.<name>] table"),
         ('name = "x"\nmodels = 3\n[records.r]\nseed = 0\n', "models: must be tables [models.<name>]"),

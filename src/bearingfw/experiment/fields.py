@@ -20,6 +20,7 @@ from bearingfw.parameters import ParameterError, owner_of
 
 __all__ = [
     "NAME",
+    "NAME_LENGTH",
     "SpecError",
     "flag_field",
     "listish",
@@ -30,8 +31,10 @@ __all__ = [
     "text_field",
 ]
 
-#: Models, records and intensities name files of the results store: keep them portable.
-NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._+-]*$")
+#: Models, records and intensities name files of the results store: keep them portable, and short
+#: enough that a cell's path and a figure's file name stay within a file system's 255 bytes per name.
+NAME_LENGTH = 64
+NAME = re.compile(rf"^[A-Za-z0-9][A-Za-z0-9._+-]{{0,{NAME_LENGTH - 1}}}$")
 
 
 class SpecError(ParameterError):

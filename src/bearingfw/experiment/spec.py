@@ -30,6 +30,7 @@ import attrs
 from bearingfw.analysis import TransientSettings
 from bearingfw.experiment.fields import (
     NAME,
+    NAME_LENGTH,
     SpecError,
     flag_field,
     listish,
@@ -133,7 +134,7 @@ class ModelSpec:
     name) with its ``params``.
     """
 
-    name: str = text_field(pattern=NAME, hint="a name of letters, digits and . _ + - (it names files)")
+    name: str = text_field(pattern=NAME, hint=f"a name of at most {NAME_LENGTH} letters, digits and . _ + - (it names files)")
     preset: str | None = text_field(optional=True, hint="a registered preset name", doc="a bearing preset")
     ks: float | None = parameter(optional=True, low=0.0, low_open=True, unit="N/m", doc="stick stiffness K_s")
     friction: float | None = parameter(optional=True, low=0.0, high=1.0, high_open=True, doc="friction coefficient")
@@ -199,7 +200,7 @@ class RecordSpec:
     motion at every support.
     """
 
-    name: str = text_field(pattern=NAME, hint="a name of letters, digits and . _ + - (it names files)")
+    name: str = text_field(pattern=NAME, hint=f"a name of at most {NAME_LENGTH} letters, digits and . _ + - (it names files)")
     seed: int | None = attrs.field(default=None, validator=lambda i, a, v: _check_seed(v))
     tremor: dict = table_field(  # noqa: RUF009 - an attrs field with a factory, not a shared default
         "TremorParameters fields of the synthetic tremor"
@@ -681,7 +682,7 @@ class Experiment:
     text the experiment was read from (copied into the results store).
     """
 
-    name: str = text_field(pattern=NAME, hint="a name of letters, digits and . _ + - (it names the output folder)")
+    name: str = text_field(pattern=NAME, hint=f"a name of at most {NAME_LENGTH} letters, digits and . _ + - (it names the output folder)")
     description: str = text_field(default="")
     reference: str | None = text_field(optional=True, doc="the model the ratios divide by (default the first)")
     plugins: tuple[str, ...] = attrs.field(default=(), converter=listish, validator=_check_module_names)

@@ -410,6 +410,8 @@ class Excitation:
         if self.steps == 1:
             return self.acceleration[0], self.velocity[0]
         i, w = self._where(t)
+        if w == 0.0:  # at a sample (every step when the record's dt is the step): the formulas below at w = 0
+            return self.acceleration[i], self.velocity[i]
         a0, a1 = self.acceleration[i], self.acceleration[i + 1]
         acc = (1.0 - w) * a0 + w * a1
         vel = self.velocity[i] + self.dt * (w * a0 + 0.5 * w * w * (a1 - a0))

@@ -66,8 +66,11 @@ def friction_return_map(k, u: np.ndarray, slip: np.ndarray, capacity: np.ndarray
     if k.size != n:
         k = np.broadcast_to(k, (n,))
     # broadcast as the numpy formulas did (a wrong shape raises numpy's ValueError, as it did)
-    slip = np.broadcast_to(np.asarray(slip, dtype=float), u.shape)
-    capacity = np.broadcast_to(np.asarray(capacity, dtype=float), (n,))
+    slip, capacity = np.asarray(slip, dtype=float), np.asarray(capacity, dtype=float)
+    if slip.shape != u.shape:
+        slip = np.broadcast_to(slip, u.shape)
+    if capacity.shape != (n,):
+        capacity = np.broadcast_to(capacity, (n,))
     return ReturnMap(*_return_map(_kernel_input(k), _kernel_input(u), _kernel_input(slip), _kernel_input(capacity)))
 
 

@@ -573,9 +573,13 @@ def effective_rhs(p: Problem, s: State, h: float, load1: np.ndarray):
 
 def _kernels():
     """:mod:`bearingfw.analysis.hht_kernels`, imported at the first step (numba's import is not free)."""
-    from bearingfw.analysis import hht_kernels
+    global _KERNELS
+    if _KERNELS is None:
+        from bearingfw.analysis import hht_kernels as _KERNELS
+    return _KERNELS
 
-    return hht_kernels
+
+_KERNELS = None
 
 
 #: below this many entries a sum of Python floats (``tolist``) is cheaper than numpy's reduction

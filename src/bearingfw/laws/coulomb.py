@@ -64,7 +64,7 @@ def friction_return_map(k, u: np.ndarray, slip: np.ndarray, capacity: np.ndarray
     n = u.shape[0]
     k = np.asarray(k, dtype=float).reshape(-1)  # a scalar, (1,) or a column (n, 1): one value per connector
     if k.size != n:
-        k = np.broadcast_to(k, (n,))
+        k = np.full(n, k[0]) if k.size == 1 else np.broadcast_to(k, (n,))  # broadcast_to: numpy's error
     # broadcast as the numpy formulas did (a wrong shape raises numpy's ValueError, as it did)
     slip, capacity = np.asarray(slip, dtype=float), np.asarray(capacity, dtype=float)
     if slip.shape != u.shape:

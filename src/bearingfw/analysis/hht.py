@@ -29,8 +29,14 @@ balance and damping force need ``M v``, ``M a``, ``K x``, ``K v`` at the new ins
 ``[M; K] x_{n+1}``, and gets the others from Newmark's updates applied to the products
 (``M a_{n+1} = (M x_{n+1} - M xt) / (beta h^2)``, ``M v_{n+1} = M vt + gamma h M a_{n+1}``), the
 same operations the scheme applies to ``x``, ``v``, ``a`` (so their round-off is of the same kind).
-The sparse products of a step call scipy's CSR kernel directly (:class:`_Sparse`: the same sums,
-without the dispatch that costs more than the product at a few hundred rows).
+
+Compiled (:mod:`bearingfw.analysis.hht_kernels`): the right-hand side with the predictors, and
+everything after the solve (the new state, that one sparse product, ``B^T phi``, the damping and
+out-of-balance forces and the energy terms) are one loop each over the DOFs; the step's
+back-substitution is a compiled substitution on SuperLU's factors (:class:`Factors`); the fast
+path's block products with ``K_t`` and an iterate's residual are compiled loops too. The other
+sparse products (``[B; V] x`` and the like) call scipy's CSR kernel directly (:class:`_Sparse`:
+the same sums, without the dispatch that costs more than the product at a few hundred rows).
 
 Fast path (static condensation onto the ``m`` governed bearing directions): with
 ``W = A^{-1} B^T`` (n x m), ``S = B W`` (m x m) and ``x_lin = A^{-1} r`` (one back-substitution),

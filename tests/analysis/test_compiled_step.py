@@ -220,3 +220,12 @@ def test_a_law_answering_with_strided_or_frozen_arrays_runs_as_with_plain_ones(a
     assert other.completed and plain.stats["iterations"] > 0
     for key in plain.keys():
         assert np.array_equal(plain[key], other[key], equal_nan=True), key
+
+
+def test_factors_too_large_to_copy_are_solved_by_superlu(monkeypatch):
+    A = (sp.random(40, 40, density=0.1, random_state=4) + sp.eye(40) * 5.0).tocsc()
+    monkeypatch.setattr(hht.Factors, "MAX_COPIED", 10)
+    factors = hht.factor(A)
+    assert not factors._compiled
+    b = np.linspace(1.0, 2.0, 40)
+    np.testing.assert_array_equal(factors.solve(b), factors.lu.solve(b))

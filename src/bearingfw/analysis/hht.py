@@ -357,8 +357,16 @@ class Factors:
     back-substitution; about a third of SuperLU's own solve at a thousand DOFs). Several
     right-hand sides at once (the condensation ``A^-1 B^T``) go to SuperLU."""
 
+    #: Largest factors (nonzeros of L and U) copied for the compiled back-substitution: the copy
+    #: costs 12 bytes a nonzero (about 240 MB here); beyond it the step solves with SuperLU.
+    MAX_COPIED = 20_000_000
+
     def __init__(self, lu):
         self.lu = lu
+        self._kernel = None
+        self._compiled = 0 < lu.nnz <= self.MAX_COPIED
+        if not self._compiled:
+            return
         L, U = lu.L.tocsc(), lu.U.tocsc()
         L.sort_indices()
         U.sort_indices()
@@ -374,7 +382,6 @@ class Factors:
         self._compiled = bool(n) and (
             np.array_equal(L.indices[L.indptr[:-1]], diagonal) and np.array_equal(U.indices[U.indptr[1:] - 1], diagonal)
         )
-        self._kernel = None
 
     @property
     def shape(self) -> tuple[int, int]:

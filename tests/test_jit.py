@@ -19,14 +19,14 @@ def test_a_kernel_is_compiled_for_its_signature_and_cached():
 
 
 def test_without_a_writable_cache_the_kernel_is_compiled_in_memory(monkeypatch):
-    real = jit.njit
+    real = numba.njit
 
     def no_locator(*args, **kwargs):  # what numba raises when no cache directory can be written
         if kwargs.get("cache"):
             raise RuntimeError("cannot cache function '_twice': no locator available for file 'x.py'")
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(jit, "njit", no_locator)
+    monkeypatch.setattr(numba, "njit", no_locator)
     compiled = jit.kernel("float64(float64)")(_twice)
     assert compiled(4.0) == 8.0
     assert compiled.stats.cache_path is None

@@ -9,13 +9,15 @@ is compiled in memory in each process instead (a few seconds) rather than failin
 
 from __future__ import annotations
 
-from numba import njit
+import numpy as np
 
-__all__ = ["kernel"]
+__all__ = ["kernel", "kernel_array"]
 
 
 def kernel(signature: str):
     """Decorator: compile ``function`` for ``signature`` (numba's string form), cached on disk."""
+
+    from numba import njit  # here, not at the top: kernel_array's users need not import numba
 
     def decorate(function):
         try:
@@ -24,3 +26,12 @@ def kernel(signature: str):
             return njit(signature)(function)
 
     return decorate
+
+
+def kernel_array(a) -> np.ndarray:
+    """``a`` as a kernel's signature takes it: a writable, C-contiguous float64 array (itself when it
+    is one already). numba types a read-only or strided array apart, and what reaches a kernel may be
+    either: a frozen parameter array, a law's shared answer, a view of a column."""
+    if type(a) is np.ndarray and a.dtype == np.float64 and a.flags.writeable and a.flags.c_contiguous:
+        return a
+    return np.array(a, dtype=np.float64, order="C")

@@ -133,6 +133,7 @@ except ImportError:  # pragma: no cover - a scipy that moved them
 
 from bearingfw.analysis.energy import Energy, accumulate
 from bearingfw.analysis.static import SYMMETRIC_ORDERING, factorize
+from bearingfw.jit import kernel_array
 from bearingfw.model import ConnectorOperators, ModelError
 from bearingfw.protocol import law_flag
 
@@ -299,7 +300,7 @@ class Problem:
         # the compiled step takes these as writable, contiguous float64 arrays: a preload with active
         # bearings hands over the law's own (possibly frozen or strided) force array as f0
         for name in ("kv", "d0", "f0", "N0"):
-            object.__setattr__(self, name, _kernel_array(getattr(self, name)))
+            object.__setattr__(self, name, kernel_array(getattr(self, name)))
         object.__setattr__(self, "mul", Products.of(self.M, self.K, self.B, self.Bt, self.V))
         object.__setattr__(self, "csr", (_csr32(sp.vstack([self.M, self.K])), _csr32(self.Bt)))
         object.__setattr__(self, "layout", _layout(self.ops))
@@ -717,19 +718,6 @@ def _stiffness(tangent: np.ndarray) -> float:
 _NONE = np.zeros(0, dtype=np.int64)
 
 
-def _writable(a: np.ndarray) -> np.ndarray:
-    """A law's array as the compiled kernels take it: writable and C-contiguous float64 (numba types
-    a read-only or strided array apart, and a law may answer with a shared, frozen array or a view
-    of a column; ``reshape(-1)`` of such a view is strided)."""
-    return _kernel_array(a)
-
-
-def _kernel_array(a) -> np.ndarray:
-    """``a`` as a writable, C-contiguous float64 array (itself when it is one already)."""
-    if type(a) is np.ndarray and a.dtype == np.float64 and a.flags.writeable and a.flags.c_contiguous:
-        return a
-    return np.array(a, dtype=np.float64, order="C")
-
 #: what a solver returns instead of ``(tangents, coupling, jacobian, phi)`` (:func:`step`) when it has none
 _NOT_LINEARISED = (None, None, None, None)
 
@@ -867,11 +855,11 @@ def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, for
     def evaluate(d: np.ndarray, N: np.ndarray) -> _FastTrial:
         responses = respond(law_states, d, N, h, velocity=None if velocity is None else velocity(p, d))
         if single:  # ConnectorOperators.forces and _tangent for one group
-            f = _writable(np.asarray(responses[0].force, dtype=float).reshape(-1))
-            tangent = _writable(np.asarray(responses[0].tangent, dtype=float).reshape(-1))
+            f = kernel_array(np.asarray(responses[0].force, dtype=float).reshape(-1))
+            tangent = kernel_array(np.asarray(responses[0].tangent, dtype=float).reshape(-1))
         else:
-            f = _writable(forces(responses))
-            tangent = _writable(_tangent(p, responses, rate))
+            f = kernel_array(forces(responses))
+            tangent = kernel_array(_tangent(p, responses, rate))
         # phi, g = d - d_lin + c S phi, N_new and the coupled springs' gap, from one product with cSN
         phi, g, N_new, gap, merit, finite = absorb(cSN, m, f, f0, d, d_lin, N_lin, tangent, coupled_rows, kv_coupled, N)
         merit = math.sqrt(merit)

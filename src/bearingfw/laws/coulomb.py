@@ -29,6 +29,7 @@ from typing import ClassVar, NamedTuple
 import attrs
 import numpy as np
 
+from bearingfw.jit import kernel_array
 from bearingfw.laws.inputs import respond_inputs
 from bearingfw.parameters import ParameterError, check_per_bearing, dims_parameter, parameter
 from bearingfw.protocol import LawResponse
@@ -71,15 +72,7 @@ def friction_return_map(k, u: np.ndarray, slip: np.ndarray, capacity: np.ndarray
         slip = np.broadcast_to(slip, u.shape)
     if capacity.shape != (n,):
         capacity = np.broadcast_to(capacity, (n,))
-    return ReturnMap(*_return_map(_kernel_input(k), _kernel_input(u), _kernel_input(slip), _kernel_input(capacity)))
-
-
-def _kernel_input(a) -> np.ndarray:
-    """``a`` as the compiled kernel takes it: a C-contiguous, writable float64 array (a read-only
-    one, e.g. a frozen parameter array or a state the purity check froze, is copied: numba types
-    it apart)."""
-    a = np.ascontiguousarray(a, dtype=float)
-    return a if a.flags.writeable else a.copy()
+    return ReturnMap(*_return_map(kernel_array(k), kernel_array(u), kernel_array(slip), kernel_array(capacity)))
 
 
 #: the compiled return map, imported at the first call (numba's import is not free)

@@ -114,32 +114,11 @@ def test_predict_and_commit_are_the_numpy_formulas(alpha, bearings):
 
 def test_a_law_answering_with_read_only_arrays_runs_as_with_writable_ones(monkeypatch):
     """A law may answer with shared, frozen arrays; the compiled kernels type those apart, so the
-    step hands them over writable (hht._writable): the run is the same to the bit."""
-    import sys
-    from pathlib import Path
-
-    sys.path.insert(0, str(Path(__file__).parent))
-    from kernel_models import band_limited_noise, deck_model
-
-    from bearingfw.analysis import ConnectorResponse, Rayleigh, TransientSettings, gravity, solve_transient
+    step hands them over writable (bearingfw.jit.kernel_array): the run is the same to the bit."""
     from bearingfw.laws.coulomb import RegularizedCoulomb
 
-    import attrs
-
-    deck = deck_model("regularized-coulomb", {"k": 4e8, "mu": 0.04})
-    # every sliding bearing planar: one law group, whose arrays the step takes as they come
-    connectors = [attrs.evolve(c, kind="planar", guided=None) if c.law else c for c in deck.connectors]
-    model = attrs.evolve(deck, connectors=connectors)
-    assert len(gravity(model).system.connectors.groups) == 1
-    ag = band_limited_noise(81, 0.01, seed=3, amplitude=[4.0, 3.0, 2.0])
-
-    def run():
-        return solve_transient(
-            model, ag, 0.01, preload=gravity(model), damping=Rayleigh(0.21, 0.00208),
-            recorders=[ConnectorResponse()], settings=TransientSettings(dt_integration=0.005),
-        )  # fmt: skip
-
-    writable = run()
+    model = _planar_deck()
+    writable = _run(model, seed=3, steps=81)
     respond = RegularizedCoulomb.respond
 
     def frozen(self, *args, **kwargs):
@@ -149,7 +128,7 @@ def test_a_law_answering_with_read_only_arrays_runs_as_with_writable_ones(monkey
         return response
 
     monkeypatch.setattr(RegularizedCoulomb, "respond", frozen)
-    read_only = run()
+    read_only = _run(model, seed=3, steps=81)
     assert read_only.completed and writable.stats["iterations"] > 0
     for key in writable.keys():
         assert np.array_equal(writable[key], read_only[key], equal_nan=True), key
@@ -167,16 +146,29 @@ def test_factors_refuse_a_vector_of_another_size_and_take_a_read_only_one():
 
 
 def _planar_deck():
-    import sys
-    from pathlib import Path
-
+    """The kernel tests' deck with every sliding bearing planar: one law group, whose arrays the
+    step takes as they come."""
     import attrs
-
-    sys.path.insert(0, str(Path(__file__).parent))
     from kernel_models import deck_model
 
+    from bearingfw.analysis import gravity
+
     deck = deck_model("regularized-coulomb", {"k": 4e8, "mu": 0.04})
-    return attrs.evolve(deck, connectors=[attrs.evolve(c, kind="planar", guided=None) if c.law else c for c in deck.connectors])
+    model = attrs.evolve(deck, connectors=[attrs.evolve(c, kind="planar", guided=None) if c.law else c for c in deck.connectors])
+    assert len(gravity(model).system.connectors.groups) == 1
+    return model
+
+
+def _run(model, seed: int, steps: int, bearings: str = "set-after-dead-load"):
+    from kernel_models import band_limited_noise
+
+    from bearingfw.analysis import ConnectorResponse, Rayleigh, TransientSettings, gravity, solve_transient
+
+    ag = band_limited_noise(steps, 0.01, seed=seed, amplitude=[4.0, 3.0, 2.0])
+    return solve_transient(
+        model, ag, 0.01, preload=gravity(model, bearings=bearings), damping=Rayleigh(0.21, 0.00208),
+        recorders=[ConnectorResponse()], settings=TransientSettings(dt_integration=0.005),
+    )  # fmt: skip
 
 
 @pytest.mark.parametrize("answer", ["strided", "frozen"])
@@ -184,22 +176,12 @@ def _planar_deck():
 def test_a_law_answering_with_strided_or_frozen_arrays_runs_as_with_plain_ones(answer, bearings, monkeypatch):
     """The law protocol asks for arrays of a shape, not a layout: a view of a wider work array, or a
     frozen array (also as the preload's law forces, with bearings active under the dead load)."""
-    from kernel_models import band_limited_noise
-
-    from bearingfw.analysis import ConnectorResponse, Rayleigh, TransientSettings, gravity, solve_transient
     from bearingfw.laws.coulomb import RegularizedCoulomb
     from bearingfw.protocol import LawResponse
 
     model = _planar_deck()
-    ag = band_limited_noise(61, 0.01, seed=5, amplitude=[4.0, 3.0, 2.0])
 
-    def run():
-        return solve_transient(
-            model, ag, 0.01, preload=gravity(model, bearings=bearings), damping=Rayleigh(0.21, 0.00208),
-            recorders=[ConnectorResponse()], settings=TransientSettings(dt_integration=0.005),
-        )  # fmt: skip
-
-    plain = run()
+    plain = _run(model, seed=5, steps=61, bearings=bearings)
     respond = RegularizedCoulomb.respond
 
     def odd(self, *args, **kwargs):
@@ -216,7 +198,7 @@ def test_a_law_answering_with_strided_or_frozen_arrays_runs_as_with_plain_ones(a
         return LawResponse(work[:, :dims], tangent[:, :, :dims], r.state, dforce_dnormal=r.dforce_dnormal)
 
     monkeypatch.setattr(RegularizedCoulomb, "respond", odd)
-    other = run()
+    other = _run(model, seed=5, steps=61, bearings=bearings)
     assert other.completed and plain.stats["iterations"] > 0
     for key in plain.keys():
         assert np.array_equal(plain[key], other[key], equal_nan=True), key

@@ -420,12 +420,10 @@ class Operator:
     cVW: np.ndarray | None = None
     #: the linear laws' tangent ``K_l`` folded into ``A`` (:func:`linear_tangent`); None: Newton on the laws
     linear: np.ndarray | None = None
-    eye: np.ndarray = attrs.field(init=False, repr=False)
     #: ``[c S; -c V W]``: both block rows of the Jacobian with dF/dN, one product each (module docstring)
     cSV: np.ndarray | None = attrs.field(init=False, repr=False)
 
     def __attrs_post_init__(self):
-        object.__setattr__(self, "eye", np.eye(self.m))
         object.__setattr__(self, "cSV", None if self.cVW is None else np.vstack((self.cS, -self.cVW)))
 
     @property

@@ -5,13 +5,18 @@ The kernels of the time step (:mod:`bearingfw.analysis.hht_kernels`) and of the 
 numba writes the machine code next to the module (``__pycache__``) or, where that is read-only,
 into the user's cache directory (``NUMBA_CACHE_DIR``). Where neither can be written, the kernel
 is compiled in memory in each process instead (a few seconds) rather than failing the import.
+
+Compiled laws (:class:`bearingfw.protocol.CompiledLaw`): a law's arithmetic as a C-callable
+function of one common signature (:data:`LAW_SIGNATURE`, :func:`law_kernel`), which the compiled
+Newton iteration of a time step (:mod:`bearingfw.analysis.hht_newton`) calls through its address,
+so that iteration is compiled once for every law and cached.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["kernel", "kernel_array"]
+__all__ = ["kernel", "kernel_array", "law_kernel", "law_signature"]
 
 
 def kernel(signature: str):
@@ -35,3 +40,34 @@ def kernel_array(a) -> np.ndarray:
     if type(a) is np.ndarray and a.dtype == np.float64 and a.flags.writeable and a.flags.c_contiguous:
         return a
     return np.array(a, dtype=np.float64, order="C")
+
+
+def law_signature():
+    """The signature of a compiled law (:class:`bearingfw.protocol.CompiledLaw`), in C terms::
+
+        int64 respond(double *parameters, double *state, double *u, double *normal_force,
+                      intp n, intp dims, double dt,
+                      double *force, double *tangent, double *dforce_dnormal, double *new_state)
+
+    ``u``, ``force``, ``dforce_dnormal``: ``n * dims``; ``tangent``: ``n * dims * dims`` (each
+    connector's block row by row); ``normal_force``: ``n``, already ``>= 0``; ``state`` and
+    ``new_state``: the law's packed state; ``parameters``: the law's own. It returns 0 when it
+    answered, anything else to have the step solved with its Python ``respond`` instead."""
+    from numba import types
+
+    p = types.CPointer(types.float64)
+    return types.int64(p, p, p, p, types.intp, types.intp, types.float64, p, p, p, p)
+
+
+def law_kernel(function):
+    """Decorator: ``function`` as a compiled law of :func:`law_signature` (a numba ``cfunc``,
+    cached on disk where it can be). Inside it, ``numba.carray(pointer, shape)`` views a pointer
+    as an array."""
+    from numba import cfunc
+
+    try:
+        return cfunc(law_signature(), cache=True)(function)
+    except RuntimeError:  # no cache locator: compiled in memory
+        return cfunc(law_signature())(function)
+
+

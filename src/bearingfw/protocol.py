@@ -29,6 +29,11 @@ Optional members that tools use when present:
   (friction: ``mu * N``); the conformance suite checks it.
 - ``slip(state) -> (n, dims)``: the irreversible part of the relative displacement in a
   committed state (friction: the accumulated slip ``u_p``); recorders report it as "slip".
+- ``compiled(n) -> CompiledLaw | None``: the same law as a compiled function
+  (:class:`CompiledLaw`) for ``n`` connectors. When every law of a run offers one and none uses
+  the velocity, a time step's Newton iteration runs compiled, calling these functions instead of
+  ``respond`` (:mod:`bearingfw.analysis.hht_newton`); ``respond`` stays the law's definition,
+  and the conformance suite checks that the two agree.
 
 What a law may ask for (class attributes, all optional; a law that declares none of them is
 called exactly as above):
@@ -66,7 +71,7 @@ from typing import Any, Protocol, runtime_checkable
 import attrs
 import numpy as np
 
-__all__ = ["BearingLaw", "LawResponse", "OPTIONAL_FLAGS", "PROTOCOL_MEMBERS", "law_flag"]
+__all__ = ["BearingLaw", "CompiledLaw", "LawResponse", "OPTIONAL_FLAGS", "PROTOCOL_MEMBERS", "law_flag"]
 
 #: Members every law must have; the plugin registry reports a law class that lacks one.
 PROTOCOL_MEMBERS = ("name", "dims", "rigid", "initial_state", "respond")
@@ -102,6 +107,24 @@ class LawResponse:
     state: Any
     dforce_dnormal: np.ndarray | None = None
     dforce_dvelocity: np.ndarray | None = None
+
+
+@attrs.frozen(eq=False)
+class CompiledLaw:
+    """A law's ``respond`` as a compiled function, for ``n`` connectors (the optional ``compiled(n)``).
+
+    ``function``: a C-callable function of :func:`bearingfw.jit.law_signature` (made with
+    :func:`bearingfw.jit.law_kernel`), given ``parameters`` and the state packed as a flat float64
+    array; it writes the force, the tangent, ``dforce_dnormal`` (zeros for a law without it) and
+    the new state, and must give what ``respond`` gives. ``pack(state)`` flattens a state of ``n``
+    connectors to ``state_size`` floats each; ``unpack(array)`` makes the state from such an array
+    (which it may keep: the kernel never writes it again)."""
+
+    function: Any
+    parameters: np.ndarray
+    state_size: int
+    pack: Any
+    unpack: Any
 
 
 @runtime_checkable

@@ -66,6 +66,8 @@ def test_the_predictor_reusing_the_last_factors_equals_factorising_again(model, 
     # the spring through Newton, as a nonlinear law without dF/dN goes (declared linear, it is folded into
     # the factorised matrix and no predictor runs: tests/analysis/test_linear_laws.py)
     monkeypatch.setattr(LinearSpring, "linear", False)
+    # the Python iteration's reuse (the compiled one's: tests/analysis/test_compiled_newton.py)
+    monkeypatch.setattr(hht, "COMPILED_NEWTON", False)
     ag = band_limited_noise(121, 0.01, seed=7, amplitude=[4.0, 3.0, 2.0])
     reused, fresh = [], []
     a = _run(model, ag, False, reused)
@@ -78,9 +80,10 @@ def test_the_predictor_reusing_the_last_factors_equals_factorising_again(model, 
         assert np.array_equal(a.energy[column], b.energy[column]), column
 
 
-def test_factors_of_another_step_size_are_not_reused():
+def test_factors_of_another_step_size_are_not_reused(monkeypatch):
     """After a halved step the operator differs: the predictor must not solve with the factors of
     the other step size (the state names the operator they belong to)."""
+    monkeypatch.setattr(hht, "COMPILED_NEWTON", False)  # the Python iteration's factors
     model = deck_model("regularized-coulomb", {"k": 4e8, "mu": 0.04})
     pre = gravity(model)
     from bearingfw.analysis.transient import build_problem

@@ -37,6 +37,10 @@ back-substitution is a compiled substitution on SuperLU's factors (:class:`Facto
 path's block products with ``K_t`` and an iterate's residual are compiled loops too. The other
 sparse products (``[B; V] x`` and the like) call scipy's CSR kernel directly (:class:`_Sparse`:
 the same sums, without the dispatch that costs more than the product at a few hundred rows).
+When every law of a run offers a compiled function (``compiled(n)``, :mod:`bearingfw.protocol`)
+and none uses the velocity, the fast path's whole Newton iteration below is one compiled call
+(:mod:`bearingfw.analysis.hht_newton`, :class:`CompiledLaws`); a step it cannot finish is solved
+again by the Python iteration here, which reports failures.
 
 Fast path (static condensation onto the ``m`` governed bearing directions): with
 ``W = A^{-1} B^T`` (n x m), ``S = B W`` (m x m) and ``x_lin = A^{-1} r`` (one back-substitution),
@@ -256,6 +260,80 @@ def _layout(ops: ConnectorOperators) -> tuple[np.ndarray, np.ndarray, np.ndarray
     return flat(starts), flat(dims), np.ascontiguousarray(offsets, dtype=np.int64)
 
 
+#: False: the fast path's Newton iteration always runs in Python (for comparisons; tests)
+COMPILED_NEWTON = True
+
+
+@attrs.frozen(eq=False)
+class CompiledLaws:
+    """What :func:`~bearingfw.analysis.hht_newton.solve_condensed` needs to call the laws of a
+    run as compiled functions (:class:`bearingfw.protocol.CompiledLaw`), and to pack and unpack
+    their states; built when every law group offers one, the fast path runs, and no law uses the
+    velocity (:meth:`of`)."""
+
+    laws: np.ndarray  # the addresses of the C-callable functions, one per group
+    functions: tuple  # those functions (held here: their addresses stay valid while they live)
+    #: per group: first row of ``B``, connectors, dims, offset in the flat tangent, first connector
+    #: (in layout order), offset of its parameters and of its packed state
+    groups: np.ndarray
+    parameters: np.ndarray
+    springs: np.ndarray  # per connector: its spring row (its N)
+    #: per row of ``B``: the column of its spring among ``Problem.coupled`` (-1: no dF/dN) and its kv
+    ecol: np.ndarray
+    ekv: np.ndarray
+    bv: tuple  # [B; V] as CSR arrays (:func:`_csr32`)
+    packs: tuple
+    unpacks: tuple
+    state_bounds: tuple  # per group: (start, stop) of its state in the packed array
+
+    @classmethod
+    def of(cls, p: Problem) -> CompiledLaws | None:
+        ops = p.ops
+        if not (p.fast and p.m) or ops.any_velocity:
+            return None
+        made = []
+        for g in ops.groups:
+            compiled = getattr(g.law, "compiled", None)
+            made.append(compiled(g.n) if callable(compiled) else None)
+            if made[-1] is None:
+                return None
+        _starts, _dims, offsets = p.layout
+        rows, params, springs, bounds = [], [], [], []
+        first = poff = soff = 0
+        for g, law in zip(ops.groups, made):
+            size = g.n * law.state_size
+            rows.append((g.rows.start, g.n, g.dims, offsets[first] if g.n else 0, first, poff, soff))
+            params.append(np.asarray(law.parameters, dtype=float).reshape(-1))
+            springs.append(np.broadcast_to(np.asarray(g.springs, dtype=np.int64).reshape(-1), (g.n,)))
+            bounds.append((soff, soff + size))
+            first, poff, soff = first + g.n, poff + params[-1].size, soff + size
+        ecol = np.full(p.m, -1, dtype=np.int64)
+        ecol[ops.coupling_rows] = np.searchsorted(p.coupled, ops.coupling_springs)
+        ekv = np.zeros(p.m)
+        ekv[ops.coupling_rows] = p.kv[ops.coupling_springs]
+        flat = (lambda parts, dtype: np.ascontiguousarray(np.concatenate(parts) if parts else np.zeros(0), dtype=dtype))
+        return cls(
+            laws=np.array([law.function.address for law in made], dtype=np.int64),
+            functions=tuple(law.function for law in made),
+            groups=np.array(rows, dtype=np.int64).reshape(-1, 7),
+            parameters=flat(params, np.float64),
+            springs=flat(springs, np.int64),
+            ecol=ecol,
+            ekv=ekv,
+            bv=_csr32(sp.vstack([p.B, p.V])),
+            packs=tuple(law.pack for law in made),
+            unpacks=tuple(law.unpack for law in made),
+            state_bounds=tuple(bounds),
+        )
+
+    def pack(self, states: tuple) -> np.ndarray:
+        parts = [kernel_array(pack(state)).reshape(-1) for pack, state in zip(self.packs, states, strict=True)]
+        return parts[0] if len(parts) == 1 else np.concatenate(parts)
+
+    def unpack(self, packed: np.ndarray) -> tuple:
+        return tuple(unpack(packed[a:b]) for unpack, (a, b) in zip(self.unpacks, self.state_bounds, strict=True))
+
+
 @attrs.frozen(eq=False)
 class Problem:
     """The matrices and preload quantities one step needs (free DOFs; see the module docstring)."""
@@ -295,6 +373,9 @@ class Problem:
     coupled_at: slice | np.ndarray = attrs.field(init=False, repr=False)
     #: what depends on the step size only, per step size (:func:`effective_rhs`'s weights)
     per_step_size: dict = attrs.field(init=False, factory=dict, repr=False)
+    #: the laws as compiled functions when every law of the run offers one (:class:`CompiledLaws`),
+    #: else None: the fast path's Newton iteration then runs compiled (:mod:`~bearingfw.analysis.hht_newton`)
+    compiled: CompiledLaws | None = attrs.field(init=False, repr=False)
 
     def __attrs_post_init__(self):
         # the compiled step takes these as writable, contiguous float64 arrays: a preload with active
@@ -315,6 +396,7 @@ class Problem:
         object.__setattr__(self, "kv_coupled", self.kv[coupled])
         object.__setattr__(self, "coupling_slots", self.ops.coupling_rows * coupled.size + index[springs])
         object.__setattr__(self, "coupling_kv", self.kv[springs])
+        object.__setattr__(self, "compiled", CompiledLaws.of(self) if COMPILED_NEWTON else None)
 
     @property
     def m(self) -> int:
@@ -462,7 +544,7 @@ def build_operator(p: Problem, h: float) -> Operator:
     lu = factor(A)
     cW = cSN = cVW = None
     if p.fast and p.m and linear is None:
-        cW = c * lu.solve(p.Bt.toarray())
+        cW = np.ascontiguousarray(c * lu.solve(p.Bt.toarray()))
         cSN = np.asarray(p.mul.BV @ cW)
         if p.coupled.size:
             cVW = cSN[p.m + p.coupled].copy()
@@ -772,9 +854,10 @@ def _predict(p: Problem, op: Operator, s: State, d_lin: np.ndarray, N_lin: np.nd
         if s.coupling is not None:
             nu_n = s.N[p.coupled_at] / p.kv_coupled
             held = held - s.coupling @ nu_n
+            # [d_lin - c S held; nu_lin + c V W held] (cSV's lower block is -c V W)
             rhs = op.cSV @ held
             rhs[:m] = d_lin - rhs[:m]
-            rhs[m:] += N_lin[p.coupled_at] / p.kv_coupled
+            rhs[m:] = N_lin[p.coupled_at] / p.kv_coupled - rhs[m:]
             if factors is not None:
                 z = _solve_factored(factors, rhs)
             else:
@@ -822,6 +905,78 @@ def _coupled_correction(p: Problem, op: Operator, trial: _FastTrial):
 
 
 def _solve_fast(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, force_scale: float, motion: Motion):
+    if p.compiled is not None and op.linear is None:
+        solved = _solve_compiled(p, op, s, r, h, force_scale, motion)
+        if solved is not None:
+            return solved
+    return _solve_fast_python(p, op, s, r, h, force_scale, motion)
+
+
+#: the first entry of :attr:`State.jacobian` when the compiled iteration made it (its factors are
+#: those of the reduced system, :mod:`~bearingfw.analysis.hht_newton`)
+_REDUCED = "reduced"
+
+
+def _solve_compiled(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, force_scale: float, motion: Motion):
+    """:func:`_solve_fast_python` as one compiled call (:mod:`~bearingfw.analysis.hht_newton`); None
+    when it did not converge (or a law declined): the Python iteration then solves the step again
+    and reports what went wrong."""
+    plan, m = p.compiled, p.m
+    newton = _newton()
+    # the last step's: (_REDUCED, operator, tangents, E, E per row, packed states, states, LU, pivots)
+    jacobian = s.jacobian if s.jacobian is not None and s.jacobian[0] is _REDUCED else None
+    if jacobian is not None and jacobian[6] is s.law_states:
+        packed = jacobian[5]  # the states this iteration unpacked last step
+    else:
+        packed = plan.pack(s.law_states)
+    ours = jacobian is not None and jacobian[2] is s.tangents and jacobian[3] is s.coupling
+    if ours and jacobian[1] is op:  # the predictor's matrix is the last correction's: its factors
+        ev_n, lu_n, piv_n, reuse = jacobian[4], jacobian[7], jacobian[8], True
+    else:
+        ev_n, lu_n, piv_n, reuse = np.zeros(m), _EMPTY2, _NONE, False
+        if ours:
+            ev_n = jacobian[4]
+        elif s.coupling is not None:  # E as the Python iteration keeps it, (m, n_c): E_k per row
+            rows = np.flatnonzero(plan.ecol >= 0)
+            ev_n[rows] = s.coupling[rows, plan.ecol[rows]]
+    tangents = s.tangents if s.tangents is not None else _EMPTY
+    sch = p.scheme
+    c = 1.0 + sch.alpha
+    offset = motion.offset if motion.offset is not None else _EMPTY
+    cVW = op.cVW if op.cVW is not None else np.zeros((0, m))
+    status, iterations, halvings, x, f, d, N, phi, tangent, ev, states_packed, lu, piv = newton.solve_condensed(
+        plan.laws, plan.groups, plan.parameters, plan.springs, *p.layout, plan.ecol, plan.ekv, p.coupled, p.kv_coupled,
+        *plan.bv, p.d0, p.N0, p.kv, p.f0, op.cSN, op.cW, cVW,
+        op.solve(r), kernel_array(offset), kernel_array(s.f), kernel_array(s.d), kernel_array(s.N), tangents, ev_n,
+        packed, lu_n, piv_n, reuse,
+        h, c, force_scale, p.tol_force, p.tol_displacement, p.d0_size, p.max_iterations, BACKTRACKS, _ARMIJO, _ROUND,
+    )  # fmt: skip
+    if status != newton.CONVERGED:
+        return None
+    states = plan.unpack(states_packed)
+    E = None
+    if ev.any():  # E as the Python iteration keeps it (a later step may run there)
+        rows = np.flatnonzero(ev)
+        E = np.zeros((m, p.coupled.size))
+        E[rows, plan.ecol[rows]] = ev[rows]
+    linearised = (tangent, E, (_REDUCED, op, tangent, E, ev, states_packed, states, lu, piv), phi)
+    return x, f, d, N, states, iterations, halvings, linearised
+
+
+def _newton():
+    """:mod:`bearingfw.analysis.hht_newton`, imported at the first compiled step."""
+    global _NEWTON
+    if _NEWTON is None:
+        from bearingfw.analysis import hht_newton as _NEWTON
+    return _NEWTON
+
+
+_NEWTON = None
+_EMPTY = np.zeros(0)
+_EMPTY2 = np.zeros((0, 0))
+
+
+def _solve_fast_python(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, force_scale: float, motion: Motion):
     if op.linear is not None:  # linear laws, folded into A: x in one back-substitution (linear_tangent)
         e = motion.offset
         x = op.solve(r if e is None else r - (1.0 + p.scheme.alpha) * (p.mul.Bt @ (op.linear @ e[: p.m])))

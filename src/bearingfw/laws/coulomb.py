@@ -32,7 +32,7 @@ import numpy as np
 from bearingfw.jit import kernel_array
 from bearingfw.laws.inputs import respond_inputs
 from bearingfw.parameters import ParameterError, check_per_bearing, dims_parameter, parameter
-from bearingfw.protocol import LawResponse
+from bearingfw.protocol import CompiledLaw, LawResponse
 
 #: 0.0 as a numpy array: a ufunc takes it faster than the Python float (the same comparison)
 _ZERO = np.zeros(())
@@ -126,3 +126,16 @@ class RegularizedCoulomb:
         mu = np.asarray(mu, dtype=float)[..., None] if isinstance(mu, np.ndarray) else mu
         dforce_dnormal = np.where((sliding & (normal_force > 0.0))[:, None], mu * direction, 0.0)
         return LawResponse(force, tangent, {"slip": new_slip}, dforce_dnormal=dforce_dnormal)
+
+    def compiled(self, n: int) -> CompiledLaw:
+        """This law as a compiled function (:func:`bearingfw.laws.friction_kernel.regularized_coulomb`)."""
+        from bearingfw.laws.friction_kernel import regularized_coulomb
+
+        check_per_bearing(self, n)
+        dims = self.dims
+        parameters = np.concatenate([np.broadcast_to(np.asarray(p, dtype=float), (n,)) for p in (self.k, self.mu)])
+        return CompiledLaw(
+            regularized_coulomb, parameters, dims,
+            pack=lambda state: kernel_array(state["slip"]).reshape(-1),
+            unpack=lambda array: {"slip": array.reshape(n, dims)},
+        )  # fmt: skip

@@ -9,7 +9,7 @@ import numpy as np
 
 from bearingfw.laws.inputs import respond_inputs
 from bearingfw.parameters import check_per_bearing, dims_parameter, parameter
-from bearingfw.protocol import LawResponse
+from bearingfw.protocol import CompiledLaw, LawResponse
 
 #: identity blocks of the tangent, shared read-only (allocating one per call costs more than the law)
 _EYE = {d: np.eye(d) for d in (1, 2)}
@@ -33,6 +33,12 @@ class Frictionless:
     def respond(self, state, u, normal_force, dt) -> LawResponse:
         n = respond_inputs(self, u, normal_force)[0].shape[0]
         return LawResponse(np.zeros((n, self.dims)), np.zeros((n, self.dims, self.dims)), state)
+
+    def compiled(self, n: int) -> CompiledLaw:
+        """Free sliding as a compiled law: a linear spring of zero stiffness (no state)."""
+        from bearingfw.laws.elastic_kernel import linear_spring
+
+        return CompiledLaw(linear_spring, np.zeros(n), 0, pack=_no_state, unpack=lambda array: {})
 
 
 @attrs.frozen
@@ -73,3 +79,15 @@ class LinearSpring:
         tangent = np.empty((n, self.dims, self.dims))
         tangent[...] = k[..., None] * _EYE[self.dims]
         return LawResponse(k * u, tangent, state)
+
+    def compiled(self, n: int) -> CompiledLaw:
+        """This law as a compiled function (:func:`bearingfw.laws.elastic_kernel.linear_spring`; no state)."""
+        from bearingfw.laws.elastic_kernel import linear_spring
+
+        check_per_bearing(self, n)
+        k = np.array(np.broadcast_to(np.asarray(self.k, dtype=float), (n,)))
+        return CompiledLaw(linear_spring, k, 0, pack=_no_state, unpack=lambda array: {})
+
+
+def _no_state(state) -> np.ndarray:
+    return np.zeros(0)

@@ -75,7 +75,7 @@ from bearingfw.model.dofs import DofMap
 from bearingfw.model.equations import Equation
 from bearingfw.parameters import ParameterError, parameter
 from bearingfw.plugins import Registry, UnknownLawError, create_law, describe_parameters, get_registry
-from bearingfw.protocol import BearingLaw, LawResponse, law_flag
+from bearingfw.protocol import BearingLaw, CompiledLaw, LawResponse, law_flag
 
 __all__ = [
     "ConnectorKind",
@@ -335,6 +335,14 @@ class CompressionOnlyGap:
         force = np.where(closed, kv * d, 0.0)
         tangent = np.where(closed, kv, 0.0)[:, :, None]
         return LawResponse(force, tangent, state)
+
+    def compiled(self, n: int) -> CompiledLaw:
+        """The gap as a compiled law (:func:`bearingfw.model.gap_kernel.compression_only_gap`; no state)."""
+        from bearingfw.model.gap_kernel import compression_only_gap
+
+        return CompiledLaw(
+            compression_only_gap, np.array(self.kv, dtype=float), 0, pack=lambda state: np.zeros(0), unpack=lambda array: None
+        )
 
 
 def _make_law(name: str, params: dict, dims: int, registry: Registry, who: str) -> BearingLaw:

@@ -3,6 +3,7 @@
 from bearingfw.testing.conformance import (
     ConformanceError,
     applicable_checks,
+    call_compiled,
     check_law,
     make_context,
     parametrize_with_checks,
@@ -24,6 +25,7 @@ from bearingfw.testing.strategies import (
 __all__ = [
     "ConformanceError",
     "applicable_checks",
+    "call_compiled",
     "check_law",
     "closed_cycles",
     "contact_force_histories",

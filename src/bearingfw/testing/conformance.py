@@ -56,6 +56,8 @@ normality                  ``friction`` laws with a ``force_bound``: the slip (`
                            (maximum dissipation; a non-associated slip direction fails)
 rate independence          laws that are not ``rate_dependent``: the same forces whatever ``dt``
                            (halved steps, the static preload's ``dt = 1``)
+compiled                   laws that offer ``compiled(n)``: the compiled function answers as
+                           ``respond`` (force, tangent, dF/dN, next state) along drawn histories
 linear                     ``linear`` laws: along any path, at any normal force and ``dt``, the
                            tangent is the first call's, the force is ``F(0) + K u``, and the state
                            comes back unchanged (the kernel folds ``K`` into its matrix)
@@ -1065,7 +1067,75 @@ def applicable_checks(law: BearingLaw) -> list[Callable[[Context], None]]:
         checks.append(check_rate_independent_limit)
     if law_flag(law, "linear"):
         checks.append(check_linear)
+    if callable(getattr(law, "compiled", None)) and not law_flag(law, "uses_velocity"):
+        checks.append(check_compiled)
     return checks
+
+
+def call_compiled(compiled, state, u, normal_force, dt: float) -> LawResponse:
+    """Call a law's compiled function (:class:`bearingfw.protocol.CompiledLaw`) as the time step's
+    compiled Newton iteration does, from Python: ``state`` is the law's own (packed here), ``u``
+    ``(n, dims)``, ``normal_force`` ``(n,)`` (clamped at zero, as the kernel does). Returns the
+    answer as a :class:`LawResponse` with the unpacked state, or None when the function declined."""
+    import ctypes
+
+    u = np.array(u, dtype=float, order="C")
+    n, dims = u.shape
+    contact = np.ascontiguousarray(np.maximum(np.asarray(normal_force, dtype=float), 0.0))
+    parameters = np.ascontiguousarray(compiled.parameters, dtype=float)
+    packed = np.array(compiled.pack(state), dtype=float).reshape(-1)
+    force, tangent, dfdn = np.zeros((n, dims)), np.zeros((n, dims, dims)), np.zeros((n, dims))
+    new_state = np.zeros(packed.size)
+    pointer = (lambda a: a.ctypes.data_as(ctypes.POINTER(ctypes.c_double)))
+    status = compiled.function.ctypes(
+        pointer(parameters), pointer(packed), pointer(u), pointer(contact), n, dims, float(dt),
+        pointer(force), pointer(tangent), pointer(dfdn), pointer(new_state),
+    )  # fmt: skip
+    if status != 0:
+        return None
+    return LawResponse(force, tangent, compiled.unpack(new_state), dforce_dnormal=dfdn)
+
+
+def check_compiled(ctx: Context) -> None:
+    """The compiled function of a law that offers one answers as ``respond``: the same force, tangent,
+    ``dforce_dnormal`` (zero for a law without it) and next state, step after step of drawn
+    histories (two connectors; to round-off). A function that declines is allowed (the kernel then
+    calls ``respond``)."""
+    law, prop = ctx.law, "compiled"
+
+    @ctx.hypothesis(ctx.histories(2, contact=True))
+    def prop_(example):
+        path, normal, _velocity = example
+        steps, n, dims = path.shape
+        try:
+            compiled = law.compiled(n)
+        except Exception as error:
+            ctx.fail(prop, f"compiled({n}) raised {type(error).__name__}: {error}")
+        if compiled is None:
+            return
+        state = law.initial_state(n)
+        coupled = law_flag(law, "normal_coupling")
+        for k in range(steps):
+            expected = _call(law, prop, state, path[k], normal[k], ctx.dt)
+            try:
+                got = call_compiled(compiled, state, path[k], normal[k], ctx.dt)
+            except Exception as error:
+                ctx.fail(prop, f"calling the compiled function raised {type(error).__name__}: {error}")
+            if got is None:
+                return
+            tolerance = ctx.roundoff(path)
+            dfdn = np.zeros((n, dims)) if not coupled or expected.dforce_dnormal is None else expected.dforce_dnormal
+            for name, a, b, scale in (
+                ("force", got.force, expected.force, tolerance),
+                ("tangent", got.tangent, expected.tangent, 0.0),
+                ("dforce_dnormal", got.dforce_dnormal, dfdn, 0.0),
+                ("next state", compiled.pack(got.state), compiled.pack(expected.state), 0.0),
+            ):
+                b = np.asarray(b, dtype=float).reshape(np.shape(a))
+                if not _close(np.asarray(a), b, 1e-12, scale + 1e-12 * float(np.max(np.abs(b), initial=0.0))):
+                    ctx.fail(prop, f"step {k} (u={path[k].tolist()}, N={normal[k].tolist()}): the compiled function "
+                                   f"gives {name} {np.asarray(a).tolist()}, respond gives {b.tolist()}")  # fmt: skip
+            state = expected.state
 
 
 def _split(law) -> list:

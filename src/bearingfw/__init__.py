@@ -4,7 +4,7 @@ from importlib.metadata import PackageNotFoundError, version
 
 from bearingfw.parameters import ParameterError, check_per_bearing, dims_parameter, parameter
 from bearingfw.plugins import BearingPreset, PresetBearing, create_law, get_registry, hookimpl
-from bearingfw.protocol import BearingLaw, LawResponse
+from bearingfw.protocol import BearingLaw, CompiledLaw, LawResponse
 
 try:
     __version__ = version("bearingfw")
@@ -15,6 +15,7 @@ __all__ = [
     "BearingLaw",
     "BearingPreset",
     "PresetBearing",
+    "CompiledLaw",
     "LawResponse",
     "ParameterError",
     "__version__",

@@ -24,7 +24,8 @@ import cmath
 import math
 
 import numpy as np
-from numba import njit
+from bearingfw.jit import law_kernel
+from numba import carray, njit
 
 # The columns of the parameter table, one row per connector.
 COL_A, COL_BETA, COL_GAMMA, COL_UY, COL_N = 0, 1, 2, 3, 4
@@ -404,6 +405,39 @@ def _substepped_2d(row, z0x, z0y, dx, dy, tangent):
     return zx, zy
 
 
+@njit(cache=True)
+def _connector_1d(row, z0, u0, u):
+    """One connector, 1-D: ``(force, tangent, z)``."""
+    d = u - u0
+    if row[COL_N] == 2.0:
+        z1, dz = _exact_1d(row, z0, d)
+    else:
+        z1, dz = _substepped_1d(row, z0, d)
+    hysteretic, alpha_k = row[COL_HYSTERETIC], row[COL_ALPHA_K]
+    if alpha_k == 0.0:
+        return hysteretic * z1, hysteretic * dz, z1
+    return alpha_k * u + hysteretic * z1, alpha_k + hysteretic * dz, z1
+
+
+@njit(cache=True)
+def _connector_2d(row, z0, u0, u, force, tangent, z):
+    """One connector, 2-D: its force (2), tangent (2, 2) and z (2) into the arrays given."""
+    dx, dy = u[0] - u0[0], u[1] - u0[1]
+    if row[COL_N] == 2.0:
+        z1x, z1y = _exact_2d(row, z0[0], z0[1], dx, dy, tangent)
+    else:
+        z1x, z1y = _substepped_2d(row, z0[0], z0[1], dx, dy, tangent)
+    hysteretic, alpha_k = row[COL_HYSTERETIC], row[COL_ALPHA_K]
+    z[0], z[1] = z1x, z1y
+    for a in range(2):
+        for b in range(2):
+            tangent[a, b] = hysteretic * tangent[a, b] + (alpha_k if a == b and alpha_k != 0.0 else 0.0)
+    if alpha_k == 0.0:
+        force[0], force[1] = hysteretic * z1x, hysteretic * z1y
+    else:
+        force[0], force[1] = alpha_k * u[0] + hysteretic * z1x, alpha_k * u[1] + hysteretic * z1y
+
+
 # --- the calls -----------------------------------------------------------------------------
 
 
@@ -413,18 +447,7 @@ def respond_1d(table, z0, u0, u):
     m = u.shape[0]
     force, tangent, z = np.empty((m, 1)), np.empty((m, 1, 1)), np.empty((m, 1))
     for i in range(m):
-        row = table[i]
-        d = u[i, 0] - u0[i, 0]
-        if row[COL_N] == 2.0:
-            z1, dz = _exact_1d(row, z0[i, 0], d)
-        else:
-            z1, dz = _substepped_1d(row, z0[i, 0], d)
-        hysteretic, alpha_k = row[COL_HYSTERETIC], row[COL_ALPHA_K]
-        z[i, 0] = z1
-        if alpha_k == 0.0:
-            force[i, 0], tangent[i, 0, 0] = hysteretic * z1, hysteretic * dz
-        else:
-            force[i, 0], tangent[i, 0, 0] = alpha_k * u[i, 0] + hysteretic * z1, alpha_k + hysteretic * dz
+        force[i, 0], tangent[i, 0, 0], z[i, 0] = _connector_1d(table[i], z0[i, 0], u0[i, 0], u[i, 0])
     return force, tangent, z
 
 
@@ -434,20 +457,33 @@ def respond_2d(table, z0, u0, u):
     m = u.shape[0]
     force, tangent, z = np.empty((m, 2)), np.empty((m, 2, 2)), np.empty((m, 2))
     for i in range(m):
-        row = table[i]
-        dx, dy = u[i, 0] - u0[i, 0], u[i, 1] - u0[i, 1]
-        dz = tangent[i]
-        if row[COL_N] == 2.0:
-            z1x, z1y = _exact_2d(row, z0[i, 0], z0[i, 1], dx, dy, dz)
-        else:
-            z1x, z1y = _substepped_2d(row, z0[i, 0], z0[i, 1], dx, dy, dz)
-        hysteretic, alpha_k = row[COL_HYSTERETIC], row[COL_ALPHA_K]
-        z[i, 0], z[i, 1] = z1x, z1y
-        for a in range(2):
-            for b in range(2):
-                dz[a, b] = hysteretic * dz[a, b] + (alpha_k if a == b and alpha_k != 0.0 else 0.0)
-        if alpha_k == 0.0:
-            force[i, 0], force[i, 1] = hysteretic * z1x, hysteretic * z1y
-        else:
-            force[i, 0], force[i, 1] = alpha_k * u[i, 0] + hysteretic * z1x, alpha_k * u[i, 1] + hysteretic * z1y
+        _connector_2d(table[i], z0[i], u0[i], u[i], force[i], tangent[i], z[i])
     return force, tangent, z
+
+
+@law_kernel
+def compiled_law(parameters, state, u, normal_force, n, dims, dt, force, tangent, dforce_dnormal, new_state):
+    """The law as a compiled function (:func:`bearingfw.jit.law_kernel`, ``BoucWen.compiled``):
+    ``parameters`` the table's rows then the largest displacement answered; the state per
+    connector ``z`` then ``u`` (``dims`` each). Declines (returns 1) a displacement that is not a
+    number or beyond that bound: ``respond`` answers it."""
+    table = carray(parameters, (n * COLUMNS + 1,))
+    bound = table[n * COLUMNS]
+    size = n * dims
+    u_, old, new = carray(u, (size,)), carray(state, (2 * size,)), carray(new_state, (2 * size,))
+    f, t, e = carray(force, (size,)), carray(tangent, (size * dims,)), carray(dforce_dnormal, (size,))
+    for i in range(size):
+        if not -bound <= u_[i] <= bound:
+            return 1
+    for c in range(n):
+        row = table[c * COLUMNS : (c + 1) * COLUMNS]
+        a, b = c * dims, (c + 1) * dims
+        z0, u0 = old[2 * a : 2 * a + dims], old[2 * a + dims : 2 * b]
+        if dims == 1:
+            f[a], t[a], new[2 * a] = _connector_1d(row, z0[0], u0[0], u_[a])
+        else:
+            _connector_2d(row, z0, u0, u_[a:b], f[a:b], t[a * dims : b * dims].reshape((2, 2)), new[2 * a : 2 * a + 2])
+        for j in range(dims):
+            new[2 * a + dims + j] = u_[a + j]
+            e[a + j] = 0.0
+    return 0

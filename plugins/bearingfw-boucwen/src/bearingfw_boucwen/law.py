@@ -180,7 +180,8 @@ _PREPARED: dict[int, tuple[weakref.ref, dict[int, _Prepared]]] = {}
 
 def _forget(key: int):
     """A weakref callback: the law with this id is gone, so is its entry."""
-    return lambda _ref: _PREPARED.pop(key, None)
+    table = _PREPARED  # bound now: at interpreter exit the module's globals may already be None
+    return lambda _ref: table.pop(key, None)
 
 
 @attrs.frozen
@@ -311,6 +312,23 @@ class BoucWen:
     def initial_state(self, n: int) -> dict:
         check_per_bearing(self, n)
         return {"z": np.zeros((n, self.dims)), "u": np.zeros((n, self.dims))}
+
+    def compiled(self, n: int) -> bearingfw.CompiledLaw:
+        """This law as a compiled function (``_kernels.compiled_law``): the parameter table and
+        :attr:`MAX_DISPLACEMENT`; the state packed per connector as ``z`` then ``u``."""
+        prepared = self._prepared(n)
+        parameters = np.append(prepared.table.reshape(-1), self.MAX_DISPLACEMENT)
+        dims = self.dims
+
+        def pack(state) -> np.ndarray:
+            return np.concatenate((np.asarray(state["z"], dtype=float).reshape(n, dims),
+                                   np.asarray(state["u"], dtype=float).reshape(n, dims)), axis=1).reshape(-1)  # fmt: skip
+
+        def unpack(array: np.ndarray) -> dict:
+            packed = array.reshape(n, 2 * dims)
+            return {"z": packed[:, :dims], "u": packed[:, dims:]}
+
+        return bearingfw.CompiledLaw(_kernels().compiled_law, parameters, 2 * dims, pack=pack, unpack=unpack)
 
     def slip(self, state) -> np.ndarray:
         """The plastic part of the displacement: ``u`` less the hysteretic spring's elastic part.

@@ -10,7 +10,7 @@ from __future__ import annotations
 import attrs
 import numpy as np
 import pytest
-from kernel_models import band_limited_noise, deck_model, friction_oscillator, with_uplift
+from kernel_models import band_limited_noise, connector_chain, deck_model, friction_oscillator, with_uplift
 
 from bearingfw.analysis import ConnectorResponse, ElementForces, Rayleigh, gravity, hht, solve_transient
 from bearingfw.analysis.excitation import SupportMotion, support_groups
@@ -51,6 +51,12 @@ CASES = {
     "bouc-wen": lambda: (
         build_system(deck_model("bouc-wen", {"k": 4e8, "alpha": 0.05, "uy": 2e-4, "A": 1.0, "beta": 0.5, "gamma": 0.5, "n": 2.0})),
         [6.0, 4.0, 3.0],
+    ),
+    # more bearing directions than hht_newton.SMALL: the reduced system solved by LAPACK
+    "large": lambda: (
+        build_system(connector_chain([2e4] * 52, [("regularized-coulomb", {"k": 4e8, "mu": 0.05 + 0.002 * (k % 7)})
+                                                  for k in range(52)], 1e9)),
+        [6.0, 0.0, 3.0],
     ),
     # a linear spring (not folded: the run has a nonlinear law) beside a friction bearing: some springs coupled
     "partly-coupled": lambda: (build_system(friction_oscillator(1e5, 1e6, 1e9, 0.1)), [8.0, 0.0, 4.0]),

@@ -23,9 +23,10 @@ is, with ``y = K_t delta + E_k dnu`` (the change of the linearised law forces), 
 whose right-hand side is also the force residual's linearisation of the convergence test, and
 whose ``y`` gives the next normal forces, ``N = N_new - c kv (V W) y``. ``E_k`` has one entry per
 coupled row (the row's own spring), so forming the matrix costs ``m^2`` and the LU factorisation
-``2/3 m^3``, instead of ``2/3 (m + n_c)^3``. The predictor solves the same system with the last
-step's tangents; its LU factors are the last correction's when they were formed from those
-(returned, and handed back at the next step).
+``2/3 m^3``, instead of ``2/3 (m + n_c)^3`` (a plain loop up to :data:`SMALL` rows, LAPACK's
+blocked solve above). The predictor solves the same system with the last step's tangents; it
+reuses the last correction's factors (or matrix) when they were formed from those (returned, and
+handed back at the next step).
 
 The laws are C-callable functions of one signature (:func:`bearingfw.jit.law_signature`), passed
 by their addresses (:func:`_call_law`): this module is compiled once for every law and cached. A law
@@ -170,6 +171,40 @@ def _call_law(typingctx, address, parameters, state, u, normal_force, n, dims, d
     return signature, codegen
 
 
+#: Up to this size the reduced system is factorised by :func:`_lu` (and the factors kept for the
+#: predictor); above it LAPACK's blocked solve (numpy's ``solve``) is faster than that plain loop.
+SMALL = 48
+
+
+@njit(cache=True)
+def _solve(J, piv, y):
+    """``y = J^-1 y``; False if ``J`` is singular (or not finite). Small: ``J`` becomes its LU factors
+    (:func:`_lu`); large: ``J`` is kept and solved by LAPACK (the predictor solves with it again)."""
+    if J.shape[0] <= SMALL:
+        if not _lu(J, piv):
+            return False
+        _lu_solve(J, piv, y)
+        return True
+    try:
+        y[:] = np.linalg.solve(J, y)
+    except Exception:  # numpy's LinAlgError: singular, or not finite
+        return False
+    return True
+
+
+@njit(cache=True)
+def _solve_again(J, piv, y):
+    """``y = J^-1 y`` with what :func:`_solve` left of ``J`` (its LU factors, or ``J`` itself)."""
+    if J.shape[0] <= SMALL:
+        _lu_solve(J, piv, y)
+        return True
+    try:
+        y[:] = np.linalg.solve(J, y)
+    except Exception:
+        return False
+    return True
+
+
 @njit(cache=True)
 def _call_laws(laws, groups, parameters, springs, states, d, N, h, f, tangent, dfdn, new_states, contact):
     """Every law group at ``(d, N)``: forces, tangents, dF/dN and trial states into the given rows;
@@ -289,15 +324,12 @@ def solve_condensed(
             for i in range(m):
                 if ev_n[i] != 0.0:
                     y[i] += ev_n[i] * rhs_nu[ecol[i]]
-        ok = True
-        if reuse:
-            lu, lpiv = lu_n, piv_n
+        if reuse:  # the last correction's matrix: its factors (or itself) as _solve left them
+            ok = _solve_again(lu_n, piv_n, y)
         else:
             _reduced_matrix(tangent_n, starts, dims, offsets, cSN[:m], ev_n, ecol, cVW, J)
-            ok = _lu(J, piv)
-            lu, lpiv = J, piv
+            ok = _solve(J, piv, y)
         if ok:
-            _lu_solve(lu, lpiv, y)
             for i in range(m):
                 total = 0.0
                 for j in range(m):
@@ -396,9 +428,8 @@ def solve_condensed(
                 y[i] += ev[i] * gap[ecol[i]]
         linear_residual = _inf(y)
         _reduced_matrix(tan, starts, dims, offsets, cSN[:m], ev, ecol, cVW, J)
-        if not _lu(J, piv):
+        if not _solve(J, piv, y):
             return SINGULAR, it, halvings, x_lin, f_n, d_n, N_n, f_n, tangent_n, ev_n, states_n, J, piv
-        _lu_solve(J, piv, y)
         for i in range(m):
             total = 0.0
             for j in range(m):

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["kernel", "kernel_array", "law_kernel", "law_signature"]
+__all__ = ["ANSWERED", "DECLINED", "kernel", "kernel_array", "law_kernel", "law_signature"]
 
 
 def kernel(signature: str):
@@ -51,23 +51,30 @@ def law_signature():
 
     ``u``, ``force``, ``dforce_dnormal``: ``n * dims``; ``tangent``: ``n * dims * dims`` (each
     connector's block row by row); ``normal_force``: ``n``, already ``>= 0``; ``state`` and
-    ``new_state``: the law's packed state; ``parameters``: the law's own. It returns 0 when it
-    answered, anything else to have the step solved with its Python ``respond`` instead."""
+    ``new_state``: the law's packed state; ``parameters``: the law's own. It returns
+    :data:`ANSWERED` when it answered; anything else (:data:`DECLINED`) has the step solved with the
+    law's Python ``respond`` instead. An exception that escapes a compiled function makes it
+    return 0 (numba prints it and goes on), so 0 must not mean "answered"."""
     from numba import types
 
     p = types.CPointer(types.float64)
     return types.int64(p, p, p, p, types.intp, types.intp, types.float64, p, p, p, p)
 
 
+#: What a compiled law returns when it answered, and when it hands the call back to ``respond``.
+ANSWERED, DECLINED = 1, 2
+
+
 def law_kernel(function):
     """Decorator: ``function`` as a compiled law of :func:`law_signature` (a numba ``cfunc``,
     cached on disk where it can be). Inside it, ``numba.carray(pointer, shape)`` views a pointer
-    as an array."""
+    as an array. Floating-point errors follow numpy (a division by zero gives inf or NaN, which
+    the step detects) instead of raising, which a C-callable function could not report."""
     from numba import cfunc
 
     try:
-        return cfunc(law_signature(), cache=True)(function)
+        return cfunc(law_signature(), cache=True, error_model="numpy")(function)
     except RuntimeError:  # no cache locator: compiled in memory
-        return cfunc(law_signature())(function)
+        return cfunc(law_signature(), error_model="numpy")(function)
 
 

@@ -116,7 +116,8 @@ class CompiledLaw:
     ``function``: a C-callable function of :func:`bearingfw.jit.law_signature` (made with
     :func:`bearingfw.jit.law_kernel`), given ``parameters`` and the state packed as a flat float64
     array; it writes the force, the tangent, ``dforce_dnormal`` (zeros for a law without it) and
-    the new state, and must give what ``respond`` gives. ``pack(state)`` flattens a state of ``n``
+    the new state, and must give what ``respond`` gives; it returns :data:`bearingfw.jit.ANSWERED`
+    (anything else hands the call back to ``respond``). ``pack(state)`` flattens a state of ``n``
     connectors to ``state_size`` floats each; ``unpack(array)`` makes the state from such an array
     (which it may keep: the kernel never writes it again)."""
 

@@ -14,7 +14,7 @@ from kernel_models import band_limited_noise, connector_chain, deck_model, frict
 
 from bearingfw.analysis import ConnectorResponse, ElementForces, Rayleigh, gravity, hht, solve_transient
 from bearingfw.analysis.excitation import SupportMotion, support_groups
-from bearingfw.jit import law_kernel
+from bearingfw.jit import DECLINED, law_kernel
 from bearingfw.laws.coulomb import RegularizedCoulomb
 from bearingfw.model import build_system
 
@@ -119,7 +119,7 @@ def test_the_compiled_iteration_under_differential_support_motion(monkeypatch):
 
 @law_kernel
 def _declining(parameters, state, u, normal_force, n, dims, dt, force, tangent, dforce_dnormal, new_state):
-    return 1
+    return DECLINED
 
 
 def test_a_law_whose_compiled_function_declines_is_solved_in_python(monkeypatch):
@@ -134,6 +134,27 @@ def test_a_law_whose_compiled_function_declines_is_solved_in_python(monkeypatch)
     assert len(calls) >= 200
     for key in reference.keys():
         assert np.array_equal(reference[key], declined[key], equal_nan=True), key
+
+
+@law_kernel
+def _raising(parameters, state, u, normal_force, n, dims, dt, force, tangent, dforce_dnormal, new_state):
+    raise ValueError("boom")  # numba prints it and the function returns 0
+
+
+@pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")  # the exception numba printed
+def test_a_compiled_law_that_raises_is_solved_in_python(monkeypatch):
+    """An exception cannot leave a C-callable function: it returns 0, which is not ANSWERED, so the
+    half-written answer is never used and the step is solved by respond()."""
+    system = build_system(deck_model("regularized-coulomb", COULOMB))
+    ag = band_limited_noise(101, DT, seed=3, amplitude=[6.0, 4.0, 3.0])
+    reference = _run(system, ag, False, monkeypatch)
+    compiled = RegularizedCoulomb.compiled
+    monkeypatch.setattr(RegularizedCoulomb, "compiled", lambda self, n: attrs.evolve(compiled(self, n), function=_raising))
+    calls = []
+    raised = _run(system, ag, True, monkeypatch, calls)
+    assert len(calls) >= 100
+    for key in reference.keys():
+        assert np.array_equal(reference[key], raised[key], equal_nan=True), key
 
 
 def test_a_run_with_a_law_without_a_compiled_function_runs_in_python(monkeypatch):

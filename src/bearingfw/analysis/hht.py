@@ -328,6 +328,12 @@ class CompiledLaws:
 
     def pack(self, states: tuple) -> np.ndarray:
         parts = [kernel_array(pack(state)).reshape(-1) for pack, state in zip(self.packs, states, strict=True)]
+        for part, (a, b), function in zip(parts, self.state_bounds, self.functions, strict=True):
+            if part.size != b - a:  # the compiled function would read and write past its state
+                raise ModelError(
+                    f"a compiled law ({getattr(function, '__name__', function)!r}): pack() gave {part.size} floats "
+                    f"for a state of {b - a} (state_size times the connectors)"
+                )
         return parts[0] if len(parts) == 1 else np.concatenate(parts)
 
     def unpack(self, packed: np.ndarray) -> tuple:

@@ -44,6 +44,8 @@ from llvmlite import ir
 from numba import njit, types
 from numba.extending import intrinsic
 
+from bearingfw.jit import ANSWERED
+
 #: :func:`solve_condensed`'s status
 CONVERGED, DECLINED, NOT_FINITE, SINGULAR, NOT_CONVERGED = 0, 1, 2, 3, 4
 
@@ -220,7 +222,7 @@ def _call_laws(laws, groups, parameters, springs, states, d, N, h, f, tangent, d
             laws[gi], parameters[poff:], states[soff:], d[row:], contact[first:], n, dims, h,
             f[row:], tangent[toff:], dfdn[row:], new_states[soff:],
         )  # fmt: skip
-        if status != 0:
+        if status != ANSWERED:  # declined, or an exception escaped it (which returns 0)
             return False
     return True
 

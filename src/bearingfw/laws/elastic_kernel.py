@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from numba import carray
 
-from bearingfw.jit import law_kernel
+from bearingfw.jit import ANSWERED, law_kernel
 
 
 @law_kernel
@@ -17,8 +17,8 @@ def linear_spring(parameters, state, u, normal_force, n, dims, dt, force, tangen
     for c in range(n):
         for a in range(dims):
             i = c * dims + a
-            f[i] = k[c] * u_[i]
+            f[i] = k[c] * u_[i] if k[c] != 0.0 else 0.0  # free sliding: zero, also for an infinite u
             e[i] = 0.0
             for b in range(dims):
                 t[i * dims + b] = k[c] if a == b else 0.0
-    return 0
+    return ANSWERED

@@ -18,7 +18,7 @@ import math
 import numpy as np
 from numba import carray, njit
 
-from bearingfw.jit import kernel, law_kernel
+from bearingfw.jit import ANSWERED, kernel, law_kernel
 
 _SIGNATURE = (
     "Tuple((float64[:, ::1], float64[:, ::1], float64[:, ::1], boolean[::1], float64[:, :, ::1]))"
@@ -89,4 +89,4 @@ def regularized_coulomb(parameters, state, u, normal_force, n, dims, dt, force, 
         slides = connector(k[c], capacity, u_[a:b], slip[a:b], dims, f[a:b], s[a:b], direction, t[a * dims : b * dims], trial)
         for j in range(dims):
             e[a + j] = mu[c] * direction[j] if slides and N[c] > 0.0 else 0.0
-    return 0
+    return ANSWERED

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from numba import carray
 
-from bearingfw.jit import law_kernel
+from bearingfw.jit import ANSWERED, law_kernel
 
 
 @law_kernel
@@ -18,4 +18,4 @@ def compression_only_gap(parameters, state, u, normal_force, n, dims, dt, force,
         f[c] = kv[c] * d[c] if closed else 0.0
         t[c] = kv[c] if closed else 0.0
         e[c] = 0.0
-    return 0
+    return ANSWERED

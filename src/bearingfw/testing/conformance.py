@@ -1079,6 +1079,8 @@ def call_compiled(compiled, state, u, normal_force, dt: float) -> LawResponse:
     answer as a :class:`LawResponse` with the unpacked state, or None when the function declined."""
     import ctypes
 
+    from bearingfw.jit import ANSWERED
+
     u = np.array(u, dtype=float, order="C")
     n, dims = u.shape
     contact = np.ascontiguousarray(np.maximum(np.asarray(normal_force, dtype=float), 0.0))
@@ -1091,7 +1093,7 @@ def call_compiled(compiled, state, u, normal_force, dt: float) -> LawResponse:
         pointer(parameters), pointer(packed), pointer(u), pointer(contact), n, dims, float(dt),
         pointer(force), pointer(tangent), pointer(dfdn), pointer(new_state),
     )  # fmt: skip
-    if status != 0:
+    if status != ANSWERED:
         return None
     return LawResponse(force, tangent, compiled.unpack(new_state), dforce_dnormal=dfdn)
 

@@ -24,7 +24,7 @@ import cmath
 import math
 
 import numpy as np
-from bearingfw.jit import law_kernel
+from bearingfw.jit import ANSWERED, DECLINED, law_kernel
 from numba import carray, njit
 
 # The columns of the parameter table, one row per connector.
@@ -465,8 +465,8 @@ def respond_2d(table, z0, u0, u):
 def compiled_law(parameters, state, u, normal_force, n, dims, dt, force, tangent, dforce_dnormal, new_state):
     """The law as a compiled function (:func:`bearingfw.jit.law_kernel`, ``BoucWen.compiled``):
     ``parameters`` the table's rows then the largest displacement answered; the state per
-    connector ``z`` then ``u`` (``dims`` each). Declines (returns 1) a displacement that is not a
-    number or beyond that bound: ``respond`` answers it."""
+    connector ``z`` then ``u`` (``dims`` each). Declines a displacement that is not a number or
+    beyond that bound: ``respond`` answers it."""
     table = carray(parameters, (n * COLUMNS + 1,))
     bound = table[n * COLUMNS]
     size = n * dims
@@ -474,7 +474,7 @@ def compiled_law(parameters, state, u, normal_force, n, dims, dt, force, tangent
     f, t, e = carray(force, (size,)), carray(tangent, (size * dims,)), carray(dforce_dnormal, (size,))
     for i in range(size):
         if not -bound <= u_[i] <= bound:
-            return 1
+            return DECLINED
     for c in range(n):
         row = table[c * COLUMNS : (c + 1) * COLUMNS]
         a, b = c * dims, (c + 1) * dims
@@ -486,4 +486,4 @@ def compiled_law(parameters, state, u, normal_force, n, dims, dt, force, tangent
         for j in range(dims):
             new[2 * a + dims + j] = u_[a + j]
             e[a + j] = 0.0
-    return 0
+    return ANSWERED

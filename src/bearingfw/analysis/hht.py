@@ -285,6 +285,7 @@ class CompiledLaws:
     packs: tuple
     unpacks: tuple
     state_bounds: tuple  # per group: (start, stop) of its state in the packed array
+    lapack: np.ndarray  # the addresses of LAPACK's dgetrf and dgetrs (hht_newton.lapack)
 
     @classmethod
     def of(cls, p: Problem) -> CompiledLaws | None:
@@ -324,6 +325,7 @@ class CompiledLaws:
             packs=tuple(law.pack for law in made),
             unpacks=tuple(law.unpack for law in made),
             state_bounds=tuple(bounds),
+            lapack=_newton().lapack(),
         )
 
     def pack(self, states: tuple) -> np.ndarray:
@@ -939,7 +941,7 @@ def _solve_compiled(p: Problem, op: Operator, s: State, r: np.ndarray, h: float,
     if ours and jacobian[1] is op:  # the predictor's matrix is the last correction's: its factors
         ev_n, lu_n, piv_n, reuse = jacobian[4], jacobian[7], jacobian[8], True
     else:
-        ev_n, lu_n, piv_n, reuse = np.zeros(m), _EMPTY2, _NONE, False
+        ev_n, lu_n, piv_n, reuse = np.zeros(m), _EMPTY2, _NO_PIVOTS, False
         if ours:
             ev_n = jacobian[4]
         elif s.coupling is not None:  # E as the Python iteration keeps it, (m, n_c): E_k per row
@@ -954,7 +956,7 @@ def _solve_compiled(p: Problem, op: Operator, s: State, r: np.ndarray, h: float,
         plan.laws, plan.groups, plan.parameters, plan.springs, *p.layout, plan.ecol, plan.ekv, p.coupled, p.kv_coupled,
         *plan.bv, p.d0, p.N0, p.kv, p.f0, op.cSN, op.cW, cVW,
         op.solve(r), kernel_array(offset), kernel_array(s.f), kernel_array(s.d), kernel_array(s.N), tangents, ev_n,
-        packed, lu_n, piv_n, reuse,
+        packed, lu_n, piv_n, reuse, plan.lapack, newton._TRANSPOSED,
         h, c, force_scale, p.tol_force, p.tol_displacement, p.d0_size, p.max_iterations, BACKTRACKS, _ARMIJO, _ROUND,
     )  # fmt: skip
     if status != newton.CONVERGED:
@@ -980,6 +982,7 @@ def _newton():
 _NEWTON = None
 _EMPTY = np.zeros(0)
 _EMPTY2 = np.zeros((0, 0))
+_NO_PIVOTS = np.zeros(0, dtype=np.int32)
 
 
 def _solve_fast_python(p: Problem, op: Operator, s: State, r: np.ndarray, h: float, force_scale: float, motion: Motion):

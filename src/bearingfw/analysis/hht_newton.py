@@ -23,10 +23,10 @@ is, with ``y = K_t delta + E_k dnu`` (the change of the linearised law forces), 
 whose right-hand side is also the force residual's linearisation of the convergence test, and
 whose ``y`` gives the next normal forces, ``N = N_new - c kv (V W) y``. ``E_k`` has one entry per
 coupled row (the row's own spring), so forming the matrix costs ``m^2`` and the LU factorisation
-``2/3 m^3``, instead of ``2/3 (m + n_c)^3`` (a plain loop up to :data:`SMALL` rows, LAPACK's
-blocked solve above). The predictor solves the same system with the last step's tangents; it
-reuses the last correction's factors (or matrix) when they were formed from those (returned, and
-handed back at the next step).
+``2/3 m^3``, instead of ``2/3 (m + n_c)^3`` (scipy's LAPACK ``dgetrf`` and ``dgetrs``, called
+through their addresses). The predictor solves the same system with the last step's tangents; it
+reuses the last correction's LU factors when they were formed from those (returned, and handed
+back at the next step).
 
 The laws are C-callable functions of one signature (:func:`bearingfw.jit.law_signature`), passed
 by their addresses (:func:`_call_law`): this module is compiled once for every law and cached. A law
@@ -107,52 +107,6 @@ def _reduced_matrix(tangent, starts, dims, offsets, cS, ev, ecol, cVW, J):
                 J[i, j] -= e * cVW[col, j]
 
 
-@njit(cache=True)
-def _lu(J, piv):
-    """LU factors of ``J`` in place, with partial pivoting (LAPACK's ``getf2``); False if singular."""
-    n = J.shape[0]
-    for k in range(n):
-        p, big = k, abs(J[k, k])
-        for i in range(k + 1, n):
-            if abs(J[i, k]) > big:
-                p, big = i, abs(J[i, k])
-        piv[k] = p
-        if not big > 0.0:  # zero, or NaN
-            return False
-        if p != k:
-            for j in range(n):
-                J[k, j], J[p, j] = J[p, j], J[k, j]
-        inverse = 1.0 / J[k, k]
-        for i in range(k + 1, n):
-            J[i, k] *= inverse
-        for i in range(k + 1, n):
-            factor = J[i, k]
-            if factor != 0.0:
-                for j in range(k + 1, n):
-                    J[i, j] -= factor * J[k, j]
-    return True
-
-
-@njit(cache=True)
-def _lu_solve(J, piv, b):
-    """``b = J^-1 b`` in place with :func:`_lu`'s factors."""
-    n = J.shape[0]
-    for k in range(n):
-        p = piv[k]
-        if p != k:
-            b[k], b[p] = b[p], b[k]
-    for i in range(n):
-        total = b[i]
-        for j in range(i):
-            total -= J[i, j] * b[j]
-        b[i] = total
-    for i in range(n - 1, -1, -1):
-        total = b[i]
-        for j in range(i + 1, n):
-            total -= J[i, j] * b[j]
-        b[i] = total / J[i, i]
-
-
 @intrinsic
 def _call_law(typingctx, address, parameters, state, u, normal_force, n, dims, dt, force, tangent, dfdn, new_state):
     """Call the compiled law at ``address`` (:func:`bearingfw.jit.law_signature`) with the data of
@@ -173,38 +127,58 @@ def _call_law(typingctx, address, parameters, state, u, normal_force, n, dims, d
     return signature, codegen
 
 
-#: Up to this size the reduced system is factorised by :func:`_lu` (and the factors kept for the
-#: predictor); above it LAPACK's blocked solve (numpy's ``solve``) is faster than that plain loop.
-SMALL = 48
+def _pointer_call(context, builder, sig, args):
+    """Code for calling the C function at ``args[0]`` with the data pointers of the other arguments
+    (arrays): how LAPACK's routines take every argument, numbers included."""
+    byte_p = ir.IntType(8).as_pointer()
+    function = ir.FunctionType(ir.VoidType(), [byte_p] * (len(args) - 1))
+    pointer = builder.inttoptr(args[0], function.as_pointer())
+    values = [builder.bitcast(context.make_array(ty)(context, builder, value).data, byte_p)
+              for ty, value in zip(sig.args[1:], args[1:])]  # fmt: skip
+    builder.call(pointer, values)
+    return context.get_dummy_value()
+
+
+@intrinsic
+def _getrf(typingctx, address, m, n, a, lda, ipiv, info):
+    """LAPACK's ``dgetrf`` at ``address`` (scipy's, :func:`lapack`): LU factors with partial pivoting."""
+    return types.void(address, m, n, a, lda, ipiv, info), _pointer_call
+
+
+@intrinsic
+def _getrs(typingctx, address, trans, n, nrhs, a, lda, ipiv, b, ldb, info):
+    """LAPACK's ``dgetrs`` at ``address``: a solve with ``dgetrf``'s factors."""
+    return types.void(address, trans, n, nrhs, a, lda, ipiv, b, ldb, info), _pointer_call
+
+
+def lapack() -> np.ndarray:
+    """The addresses of scipy's ``dgetrf`` and ``dgetrs`` (passed to :func:`solve_condensed`, not
+    compiled in: an address differs from process to process, the cached machine code does not)."""
+    from numba.extending import get_cython_function_address
+
+    return np.array([get_cython_function_address("scipy.linalg.cython_lapack", name) for name in ("dgetrf", "dgetrs")],
+                    dtype=np.int64)  # fmt: skip
+
+
+#: ``dgetrs``'s ``trans``: LAPACK reads the row-major ``J`` as its transpose, so it factorises
+#: ``J^T`` and solves with that transposed, i.e. with ``J``
+_TRANSPOSED = np.array([ord("T")], dtype=np.uint8)
 
 
 @njit(cache=True)
-def _solve(J, piv, y):
-    """``y = J^-1 y``; False if ``J`` is singular (or not finite). Small: ``J`` becomes its LU factors
-    (:func:`_lu`); large: ``J`` is kept and solved by LAPACK (the predictor solves with it again)."""
-    if J.shape[0] <= SMALL:
-        if not _lu(J, piv):
-            return False
-        _lu_solve(J, piv, y)
-        return True
-    try:
-        y[:] = np.linalg.solve(J, y)
-    except Exception:  # numpy's LinAlgError: singular, or not finite
-        return False
-    return True
+def _factor(addresses, J, piv, ints):
+    """``J``'s LU factors in place (of ``J^T`` as LAPACK reads it); False if ``J`` is singular."""
+    ints[0], ints[1] = J.shape[0], 0
+    _getrf(addresses[0], ints[0:1], ints[0:1], J, ints[0:1], piv, ints[1:2])
+    return ints[1] == 0
 
 
 @njit(cache=True)
-def _solve_again(J, piv, y):
-    """``y = J^-1 y`` with what :func:`_solve` left of ``J`` (its LU factors, or ``J`` itself)."""
-    if J.shape[0] <= SMALL:
-        _lu_solve(J, piv, y)
-        return True
-    try:
-        y[:] = np.linalg.solve(J, y)
-    except Exception:
-        return False
-    return True
+def _solve(addresses, J, piv, y, ints, trans):
+    """``y = J^-1 y`` with :func:`_factor`'s factors of ``J``."""
+    ints[0], ints[1], ints[2] = J.shape[0], 0, 1
+    _getrs(addresses[1], trans, ints[0:1], ints[2:3], J, ints[0:1], piv, y, ints[0:1], ints[1:2])
+    return ints[1] == 0
 
 
 @njit(cache=True)
@@ -228,11 +202,71 @@ def _call_laws(laws, groups, parameters, springs, states, d, N, h, f, tangent, d
 
 
 @njit(cache=True)
+def _evaluate(slot, laws, groups, parameters, springs, states_n, h, trials, flags, contact, cSN, d_lin, N_lin, f0,
+              coupled, kv_coupled, ecol, ekv, round_d):  # fmt: skip
+    """An iterate: the laws at ``(D[slot], NN[slot])`` and what they give (``hht_kernels.absorb``):
+    ``phi``, ``g``, ``N_new``, the coupled springs' gap, ``E_k`` per row, the residual norm and
+    whether it is at round-off and finite. False when a law declined."""
+    D, NN, F, PHI, TAN, DFDN, EV, G, NNEW, GAP, ST, MERIT = trials
+    HAS_E, TINY, FINITE = flags
+    m = D.shape[1]
+    nv = NN.shape[1]
+    nc = coupled.shape[0]
+    d, N = D[slot], NN[slot]
+    if not _call_laws(laws, groups, parameters, springs, states_n, d, N, h, F[slot], TAN[slot], DFDN[slot], ST[slot], contact):
+        return False
+    f, phi, g, N_new, gap, ev = F[slot], PHI[slot], G[slot], NNEW[slot], GAP[slot], EV[slot]
+    for j in range(m):
+        phi[j] = f[j] - f0[j]
+    finite = True
+    merit = 0.0
+    for r in range(m + nv):
+        total = 0.0
+        for j in range(m):
+            total += cSN[r, j] * phi[j]
+        if not math.isfinite(total):
+            finite = False
+        if r < m:
+            value = (d[r] - d_lin[r]) + total
+            g[r] = value
+            merit += value * value
+        else:
+            N_new[r - m] = N_lin[r - m] + total
+    tan = TAN[slot]
+    for j in range(tan.shape[0]):
+        if not math.isfinite(tan[j]):
+            finite = False
+    has_e = False
+    if nc:
+        for i in range(nc):
+            value = (N[coupled[i]] - N_new[coupled[i]]) / kv_coupled[i]
+            gap[i] = value
+            merit += value * value
+        dfdn = DFDN[slot]
+        for i in range(m):
+            col = ecol[i]
+            value = 0.0
+            if col >= 0 and N[coupled[col]] > 0.0:
+                value = dfdn[i] * ekv[i]
+                if not math.isfinite(value):
+                    finite = False
+            ev[i] = value
+            if value != 0.0:
+                has_e = True
+    HAS_E[slot] = has_e
+    merit = math.sqrt(merit)
+    MERIT[slot] = merit
+    TINY[slot] = merit <= round_d
+    FINITE[slot] = finite
+    return True
+
+
+@njit(cache=True)
 def solve_condensed(
     laws, groups, parameters, springs, starts, dims, offsets, ecol, ekv, coupled, kv_coupled,
     bv_indptr, bv_indices, bv_data, d0, N0, kv, f0,
     cSN, cW, cVW,
-    x_lin, offset, f_n, d_n, N_n, tangent_n, ev_n, states_n, lu_n, piv_n, reuse,
+    x_lin, offset, f_n, d_n, N_n, tangent_n, ev_n, states_n, lu_n, piv_n, reuse, addresses, trans,
     h, c, force_scale, tol_force, tol_displacement, d0_size, max_iterations, backtracks_max, armijo, round_,
 ):  # fmt: skip
     """One step's bearing displacements by Newton on the condensed system (module docstring).
@@ -241,7 +275,8 @@ def solve_condensed(
     new displacements, law forces, bearing displacements, normal forces, ``phi = f - f_0``, the
     flat tangent, ``E_k`` per row (``ev``), the packed law states and the LU factors of the last
     correction's matrix (for the next step's predictor). ``tangent_n`` empty: no tangents yet (the
-    first step); ``reuse``: ``lu_n``, ``piv_n`` are the factors of the predictor's matrix."""
+    first step); ``reuse``: ``lu_n``, ``piv_n`` are the factors of the predictor's matrix;
+    ``addresses``: LAPACK's (:func:`lapack`), ``trans``: :data:`_TRANSPOSED`."""
     m = cSN.shape[1]
     nv = cSN.shape[0] - m
     nc = coupled.shape[0]
@@ -284,7 +319,8 @@ def solve_condensed(
     contact = np.empty(springs.shape[0])
 
     J = np.empty((m, m))
-    piv = np.empty(m, dtype=np.int64)
+    piv = np.empty(m, dtype=np.int32)
+    ints = np.empty(3, dtype=np.int32)  # LAPACK's integer arguments
     y = np.empty(m)
     work = np.empty(m)
     delta = np.zeros(m)
@@ -326,11 +362,11 @@ def solve_condensed(
             for i in range(m):
                 if ev_n[i] != 0.0:
                     y[i] += ev_n[i] * rhs_nu[ecol[i]]
-        if reuse:  # the last correction's matrix: its factors (or itself) as _solve left them
-            ok = _solve_again(lu_n, piv_n, y)
+        if reuse:  # the last correction's matrix: its factors
+            ok = _solve(addresses, lu_n, piv_n, y, ints, trans)
         else:
             _reduced_matrix(tangent_n, starts, dims, offsets, cSN[:m], ev_n, ecol, cVW, J)
-            ok = _solve(J, piv, y)
+            ok = _factor(addresses, J, piv, ints) and _solve(addresses, J, piv, y, ints, trans)
         if ok:
             for i in range(m):
                 total = 0.0
@@ -366,57 +402,11 @@ def solve_condensed(
             else:
                 N_p[r - m] = N_lin[r - m] + total
 
-    # ---- an iterate: the laws at (D[slot], NN[slot]) and what they give (hht_kernels.absorb)
-    def evaluate(slot):
-        d, N = D[slot], NN[slot]
-        if not _call_laws(laws, groups, parameters, springs, states_n, d, N, h, F[slot], TAN[slot], DFDN[slot], ST[slot], contact):
-            return False
-        f, phi, g, N_new, gap, ev = F[slot], PHI[slot], G[slot], NNEW[slot], GAP[slot], EV[slot]
-        for j in range(m):
-            phi[j] = f[j] - f0[j]
-        finite = True
-        merit = 0.0
-        for r in range(m + nv):
-            total = 0.0
-            for j in range(m):
-                total += cSN[r, j] * phi[j]
-            if not math.isfinite(total):
-                finite = False
-            if r < m:
-                value = (d[r] - d_lin[r]) + total
-                g[r] = value
-                merit += value * value
-            else:
-                N_new[r - m] = N_lin[r - m] + total
-        tan = TAN[slot]
-        for j in range(size_t):
-            if not math.isfinite(tan[j]):
-                finite = False
-        has_e = False
-        if nc:
-            for i in range(nc):
-                value = (N[coupled[i]] - N_new[coupled[i]]) / kv_coupled[i]
-                gap[i] = value
-                merit += value * value
-            dfdn = DFDN[slot]
-            for i in range(m):
-                col = ecol[i]
-                value = 0.0
-                if col >= 0 and N[coupled[col]] > 0.0:
-                    value = dfdn[i] * ekv[i]
-                    if not math.isfinite(value):
-                        finite = False
-                ev[i] = value
-                if value != 0.0:
-                    has_e = True
-        HAS_E[slot] = has_e
-        merit = math.sqrt(merit)
-        MERIT[slot] = merit
-        TINY[slot] = merit <= round_d
-        FINITE[slot] = finite
-        return True
-
-    if not evaluate(cur):
+    trials = (D, NN, F, PHI, TAN, DFDN, EV, G, NNEW, GAP, ST, MERIT)
+    flags = (HAS_E, TINY, FINITE)
+    common = (laws, groups, parameters, springs, states_n, h, trials, flags, contact, cSN, d_lin, N_lin, f0,
+              coupled, kv_coupled, ecol, ekv, round_d)  # fmt: skip
+    if not _evaluate(cur, *common):
         return DECLINED, 0, 0, x_lin, f_n, d_n, N_n, f_n, tangent_n, ev_n, states_n, J, piv
     halvings = 0
     for it in range(1, max_iterations + 1):
@@ -430,7 +420,7 @@ def solve_condensed(
                 y[i] += ev[i] * gap[ecol[i]]
         linear_residual = _inf(y)
         _reduced_matrix(tan, starts, dims, offsets, cSN[:m], ev, ecol, cVW, J)
-        if not _solve(J, piv, y):
+        if not (_factor(addresses, J, piv, ints) and _solve(addresses, J, piv, y, ints, trans)):
             return SINGULAR, it, halvings, x_lin, f_n, d_n, N_n, f_n, tangent_n, ev_n, states_n, J, piv
         for i in range(m):
             total = 0.0
@@ -491,7 +481,7 @@ def solve_condensed(
                 Nt[r] = NNEW[base][r] - lam * dN[r]
             for i in range(nc):
                 Nt[coupled[i]] = N[coupled[i]] - lam * (kv_coupled[i] * dnu[i])
-            if not evaluate(trial):
+            if not _evaluate(trial, *common):
                 return DECLINED, it, halvings, x_lin, f_n, d_n, N_n, f_n, tangent_n, ev_n, states_n, J, piv
             if not FINITE[trial] or TINY[trial] or MERIT[trial] <= (1.0 - armijo * lam) * MERIT[base]:
                 accepted = trial

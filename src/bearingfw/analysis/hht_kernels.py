@@ -29,6 +29,8 @@ import math
 
 import numpy as np
 
+from numba import njit
+
 from bearingfw.jit import kernel
 
 _V = "float64[::1]"
@@ -197,10 +199,9 @@ def back_substitute(l_indptr, l_indices, l_data, u_indptr, u_indices, u_data, pe
 _L = "int64[::1]"
 
 
-@kernel(f"{_V}({_V}, {_L}, {_L}, {_L}, {_V})")
-def tangent_times(tangent, starts, dims, offsets, vector):
-    """``K_t @ vector``."""
-    out = np.empty(vector.shape[0])
+@njit(cache=True)
+def tangent_times_into(tangent, starts, dims, offsets, vector, out):
+    """``out = K_t @ vector`` (also for the compiled Newton iteration, :mod:`~bearingfw.analysis.hht_newton`)."""
     for k in range(starts.shape[0]):
         s, n, o = starts[k], dims[k], offsets[k]
         for a in range(n):
@@ -208,6 +209,13 @@ def tangent_times(tangent, starts, dims, offsets, vector):
             for b in range(n):
                 total += tangent[o + a * n + b] * vector[s + b]
             out[s + a] = total
+
+
+@kernel(f"{_V}({_V}, {_L}, {_L}, {_L}, {_V})")
+def tangent_times(tangent, starts, dims, offsets, vector):
+    """``K_t @ vector``."""
+    out = np.empty(vector.shape[0])
+    tangent_times_into(tangent, starts, dims, offsets, vector, out)
     return out
 
 
@@ -239,18 +247,13 @@ _ABSORB = (
 )
 
 
-@kernel(_ABSORB)
-def absorb(cSN, m, f, f0, d, d_lin, N_lin, tangent, coupled, kv_coupled, N):
-    """What the law forces ``f`` and tangent (flat) at the iterate ``(d, N)`` give: ``phi = f - f_0``,
-    ``g = d - d_lin + c S phi``, ``N_new = N_lin + c kv (V W) phi`` (one product with ``cSN``), on
-    the ``coupled`` springs ``(N - N_new) / kv``, the squared residual norm ``|g|^2 (+ |gap|^2)``, and
-    whether the forces (through ``c S phi``) and the tangent are finite."""
+@njit(cache=True)
+def absorb_into(cSN, m, f, f0, d, d_lin, N_lin, tangent, coupled, kv_coupled, N, phi, g, N_new, gap):
+    """:func:`absorb` into the arrays given; returns ``(merit, finite)`` (also for the compiled
+    Newton iteration, :mod:`~bearingfw.analysis.hht_newton`)."""
     rows = cSN.shape[0]
-    phi = np.empty(m)
     for j in range(m):
         phi[j] = f[j] - f0[j]
-    g = np.empty(m)
-    N_new = np.empty(rows - m)
     finite = True
     merit = 0.0
     for r in range(rows):
@@ -268,11 +271,21 @@ def absorb(cSN, m, f, f0, d, d_lin, N_lin, tangent, coupled, kv_coupled, N):
     for j in range(tangent.shape[0]):
         if not math.isfinite(tangent[j]):
             finite = False
-    gap = np.empty(coupled.shape[0])
     for i in range(coupled.shape[0]):
         value = (N[coupled[i]] - N_new[coupled[i]]) / kv_coupled[i]
         gap[i] = value
         merit += value * value
+    return merit, finite
+
+
+@kernel(_ABSORB)
+def absorb(cSN, m, f, f0, d, d_lin, N_lin, tangent, coupled, kv_coupled, N):
+    """What the law forces ``f`` and tangent (flat) at the iterate ``(d, N)`` give: ``phi = f - f_0``,
+    ``g = d - d_lin + c S phi``, ``N_new = N_lin + c kv (V W) phi`` (one product with ``cSN``), on
+    the ``coupled`` springs ``(N - N_new) / kv``, the squared residual norm ``|g|^2 (+ |gap|^2)``, and
+    whether the forces (through ``c S phi``) and the tangent are finite."""
+    phi, g, N_new, gap = np.empty(m), np.empty(m), np.empty(cSN.shape[0] - m), np.empty(coupled.shape[0])
+    merit, finite = absorb_into(cSN, m, f, f0, d, d_lin, N_lin, tangent, coupled, kv_coupled, N, phi, g, N_new, gap)
     return phi, g, N_new, gap, merit, finite
 
 

@@ -30,8 +30,9 @@ back at the next step).
 
 The laws are C-callable functions of one signature (:func:`bearingfw.jit.law_signature`), passed
 by their addresses (:func:`_call_law`): this module is compiled once for every law and cached. A law
-function that declines (a nonzero return), a non-finite iterate, a singular correction or no
-convergence returns a status instead: the step is then solved again by the Python iteration,
+function that declines (anything but :data:`bearingfw.jit.ANSWERED`, also what an exception
+escaping it returns), a non-finite iterate, a singular correction or no convergence returns a
+status instead: the step is then solved again by the Python iteration,
 which reports the failure as it always has.
 """
 
@@ -44,6 +45,7 @@ from llvmlite import ir
 from numba import njit, types
 from numba.extending import intrinsic
 
+from bearingfw.analysis.hht_kernels import absorb_into, displacement_converged, tangent_times_into
 from bearingfw.jit import ANSWERED
 
 #: :func:`solve_condensed`'s status
@@ -69,18 +71,6 @@ def _finite(a):
         if not math.isfinite(a[i]):
             return False
     return True
-
-
-@njit(cache=True)
-def _tangent_times(tangent, starts, dims, offsets, vector, out):
-    """``out = K_t vector`` (``tangent`` flat, block by block)."""
-    for c in range(starts.shape[0]):
-        s, k, o = starts[c], dims[c], offsets[c]
-        for a in range(k):
-            total = 0.0
-            for b in range(k):
-                total += tangent[o + a * k + b] * vector[s + b]
-            out[s + a] = total
 
 
 @njit(cache=True)
@@ -208,40 +198,15 @@ def _evaluate(slot, laws, groups, parameters, springs, states_n, h, trials, flag
     ``phi``, ``g``, ``N_new``, the coupled springs' gap, ``E_k`` per row, the residual norm and
     whether it is at round-off and finite. False when a law declined."""
     D, NN, F, PHI, TAN, DFDN, EV, G, NNEW, GAP, ST, MERIT = trials
-    HAS_E, TINY, FINITE = flags
+    TINY, FINITE = flags
     m = D.shape[1]
-    nv = NN.shape[1]
     nc = coupled.shape[0]
     d, N = D[slot], NN[slot]
     if not _call_laws(laws, groups, parameters, springs, states_n, d, N, h, F[slot], TAN[slot], DFDN[slot], ST[slot], contact):
         return False
-    f, phi, g, N_new, gap, ev = F[slot], PHI[slot], G[slot], NNEW[slot], GAP[slot], EV[slot]
-    for j in range(m):
-        phi[j] = f[j] - f0[j]
-    finite = True
-    merit = 0.0
-    for r in range(m + nv):
-        total = 0.0
-        for j in range(m):
-            total += cSN[r, j] * phi[j]
-        if not math.isfinite(total):
-            finite = False
-        if r < m:
-            value = (d[r] - d_lin[r]) + total
-            g[r] = value
-            merit += value * value
-        else:
-            N_new[r - m] = N_lin[r - m] + total
-    tan = TAN[slot]
-    for j in range(tan.shape[0]):
-        if not math.isfinite(tan[j]):
-            finite = False
-    has_e = False
+    f, phi, g, N_new, gap, ev, tan = F[slot], PHI[slot], G[slot], NNEW[slot], GAP[slot], EV[slot], TAN[slot]
+    merit, finite = absorb_into(cSN, m, f, f0, d, d_lin, N_lin, tan, coupled, kv_coupled, N, phi, g, N_new, gap)
     if nc:
-        for i in range(nc):
-            value = (N[coupled[i]] - N_new[coupled[i]]) / kv_coupled[i]
-            gap[i] = value
-            merit += value * value
         dfdn = DFDN[slot]
         for i in range(m):
             col = ecol[i]
@@ -251,9 +216,6 @@ def _evaluate(slot, laws, groups, parameters, springs, states_n, h, trials, flag
                 if not math.isfinite(value):
                     finite = False
             ev[i] = value
-            if value != 0.0:
-                has_e = True
-    HAS_E[slot] = has_e
     merit = math.sqrt(merit)
     MERIT[slot] = merit
     TINY[slot] = merit <= round_d
@@ -308,7 +270,6 @@ def solve_condensed(
     TAN = np.empty((3, size_t))
     DFDN = np.empty((3, m))
     EV = np.zeros((3, m))
-    HAS_E = np.zeros(3, dtype=np.bool_)
     G = np.empty((3, m))
     NNEW = np.empty((3, nv))
     GAP = np.empty((3, nc))
@@ -333,7 +294,7 @@ def solve_condensed(
     predicted = False
     if tangent_n.shape[0]:
         held = np.empty(m)
-        _tangent_times(tangent_n, starts, dims, offsets, d_n, work)
+        tangent_times_into(tangent_n, starts, dims, offsets, d_n, work)
         has_e_n = False
         for i in range(m):
             held[i] = (f_n[i] - f0[i]) - work[i]
@@ -357,7 +318,7 @@ def solve_condensed(
                     total += cVW[i, j] * held[j]
                 rhs_nu[i] = N_lin[coupled[i]] / kv_coupled[i] + total
         # y = K_t d + E nu from (I + K_t cS - E_k cVW) y = K_t rhs_d + E_k rhs_nu
-        _tangent_times(tangent_n, starts, dims, offsets, d_p, y)
+        tangent_times_into(tangent_n, starts, dims, offsets, d_p, y)
         if has_e_n:
             for i in range(m):
                 if ev_n[i] != 0.0:
@@ -403,7 +364,7 @@ def solve_condensed(
                 N_p[r - m] = N_lin[r - m] + total
 
     trials = (D, NN, F, PHI, TAN, DFDN, EV, G, NNEW, GAP, ST, MERIT)
-    flags = (HAS_E, TINY, FINITE)
+    flags = (TINY, FINITE)
     common = (laws, groups, parameters, springs, states_n, h, trials, flags, contact, cSN, d_lin, N_lin, f0,
               coupled, kv_coupled, ecol, ekv, round_d)  # fmt: skip
     if not _evaluate(cur, *common):
@@ -414,7 +375,7 @@ def solve_condensed(
             return NOT_FINITE, it, halvings, x_lin, f_n, d_n, N_n, f_n, tangent_n, ev_n, states_n, J, piv
         d, N, f, g, tan, ev, gap = D[cur], NN[cur], F[cur], G[cur], TAN[cur], EV[cur], GAP[cur]
         # the correction: y from the reduced system, its right-hand side the linearised residual
-        _tangent_times(tan, starts, dims, offsets, g, y)
+        tangent_times_into(tan, starts, dims, offsets, g, y)
         for i in range(m):
             if ev[i] != 0.0:
                 y[i] += ev[i] * gap[ecol[i]]
@@ -433,14 +394,7 @@ def solve_condensed(
                 total += cVW[i, j] * y[j]
             dnu[i] = gap[i] + total
         # the tests (hht_kernels.displacement_converged, then the normal and force residuals)
-        largest, moved, nan = 0.0, 0.0, False
-        for i in range(m):
-            a, b, e = abs(delta[i]), abs(d[i] - d_n[i]), abs(d[i] - d0[i])
-            if a != a or b != b or e != e:
-                nan = True
-            largest = max(largest, a)
-            moved = max(moved, b, e)
-        if not nan and largest <= tol_displacement * moved + round_d:
+        if displacement_converged(delta, d, d_n, d0, tol_displacement, round_d):
             N_new = NNEW[cur]
             change = 0.0
             for r in range(nv):

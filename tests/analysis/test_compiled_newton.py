@@ -145,6 +145,29 @@ def test_a_compiled_law_that_does_not_answer_is_solved_in_python(function, monke
         assert np.array_equal(reference[key], fallen_back[key], equal_nan=True), key
 
 
+@pytest.mark.parametrize(
+    "broken",
+    [
+        lambda self, n: 1 / 0,  # compiled() raises
+        lambda self, n: "not a compiled law",
+        lambda self, n: attrs.evolve(COMPILED(self, n), pack=lambda state: np.zeros(1)),  # a state of the wrong size
+    ],
+    ids=["raises", "wrong-type", "wrong-state-size"],
+)
+def test_a_law_whose_compiled_function_cannot_be_used_runs_in_python_with_a_warning(broken, monkeypatch):
+    system = build_system(deck_model("regularized-coulomb", COULOMB))
+    ag = band_limited_noise(101, DT, seed=3, amplitude=[6.0, 4.0, 3.0])
+    reference = _run(system, ag, False, monkeypatch)
+    monkeypatch.setattr(RegularizedCoulomb, "compiled", broken)
+    with pytest.warns(RuntimeWarning, match="regularized-coulomb.*compiled function cannot be used"):
+        result = _run(system, ag, True, monkeypatch)
+    for key in reference.keys():
+        assert np.array_equal(reference[key], result[key], equal_nan=True), key
+
+
+COMPILED = RegularizedCoulomb.compiled
+
+
 def test_a_run_with_a_law_without_a_compiled_function_runs_in_python(monkeypatch):
     system = build_system(deck_model("regularized-coulomb", COULOMB))
     monkeypatch.delattr(RegularizedCoulomb, "compiled")

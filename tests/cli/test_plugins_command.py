@@ -77,6 +77,17 @@ def test_the_table_shows_flags_presets_metrics_and_executors(capsys):
     assert "Metric families:" in out and "Executors:" in out
 
 
+def test_the_listing_says_which_laws_offer_a_compiled_function(capsys):
+    assert main(["plugins", "--json"]) == 0
+    laws = {law["name"]: law for law in json.loads(capsys.readouterr().out)["laws"]}
+    assert laws["regularized-coulomb"]["compiled"] and laws["linear-spring"]["compiled"]
+    assert not laws["fixed"]["compiled"]
+    assert main(["plugins"]) == 0
+    out = capsys.readouterr().out
+    assert "compiled" in next(line for line in out.splitlines() if line.strip().startswith("regularized-coulomb "))
+    assert "compiled" not in next(line for line in out.splitlines() if line.strip().startswith("fixed "))
+
+
 EXTRAS = '''
 import numpy as np
 import bearingfw

@@ -122,6 +122,7 @@ one extra law call).
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
 
 import attrs
@@ -139,7 +140,7 @@ from bearingfw.analysis.energy import Energy, accumulate
 from bearingfw.analysis.static import SYMMETRIC_ORDERING, factorize
 from bearingfw.jit import kernel_array
 from bearingfw.model import ConnectorOperators, ModelError
-from bearingfw.protocol import law_flag
+from bearingfw.protocol import CompiledLaw, law_flag
 
 __all__ = [
     "Scheme",
@@ -264,6 +265,33 @@ def _layout(ops: ConnectorOperators) -> tuple[np.ndarray, np.ndarray, np.ndarray
 COMPILED_NEWTON = True
 
 
+def _compiled_law(g) -> CompiledLaw | None:
+    """The compiled function a law group's law offers (``compiled(n)``), checked; None if it offers
+    none. One that cannot be used (``compiled`` raises, or gives no C-callable function, or a state
+    that does not pack to ``state_size`` floats a connector) is left aside with a warning: the
+    run's steps are then solved through ``respond``, as without it."""
+    make = getattr(g.law, "compiled", None)
+    if not callable(make):
+        return None
+    try:
+        law = make(g.n)
+        if law is None:
+            return None
+        int(law.function.address)
+        np.asarray(law.parameters, dtype=float)
+        packed = kernel_array(law.pack(g.law.initial_state(g.n))).reshape(-1)
+        if packed.size != g.n * int(law.state_size):
+            raise ValueError(f"pack() gives {packed.size} floats for {g.n} connector(s) of state_size {law.state_size}")
+    except Exception as exc:  # an optional fast path: a defect in it must not stop the run
+        name = getattr(g.law, "name", type(g.law).__name__)
+        warnings.warn(
+            f"law {name!r}: its compiled function cannot be used ({type(exc).__name__}: {exc}); the steps are "
+            "solved through respond()", RuntimeWarning, stacklevel=2,
+        )  # fmt: skip
+        return None
+    return law
+
+
 @attrs.frozen(eq=False)
 class CompiledLaws:
     """What :func:`~bearingfw.analysis.hht_newton.solve_condensed` needs to call the laws of a
@@ -294,8 +322,7 @@ class CompiledLaws:
             return None
         made = []
         for g in ops.groups:
-            compiled = getattr(g.law, "compiled", None)
-            made.append(compiled(g.n) if callable(compiled) else None)
+            made.append(_compiled_law(g))
             if made[-1] is None:
                 return None
         _starts, _dims, offsets = p.layout

@@ -49,6 +49,8 @@ def _law_details(cls) -> dict:
     return {
         "class": f"{cls.__module__}.{cls.__qualname__}",
         "flags": {flag: law_flag(cls, flag) for flag in OPTIONAL_FLAGS},
+        # offers compiled(n): the time step's Newton iteration can run compiled with it (bearingfw.protocol)
+        "compiled": callable(getattr(cls, "compiled", None)),
         "parameters": describe_parameters(cls),
     }
 
@@ -93,8 +95,9 @@ def _format_parameter(p: dict) -> str:
     return text
 
 
-def _format_flags(flags: dict) -> str:
-    return ", ".join(FLAG_LABELS[flag] for flag in OPTIONAL_FLAGS if flags.get(flag)) or "-"
+def _format_flags(flags: dict, compiled: bool = False) -> str:
+    labels = [FLAG_LABELS[flag] for flag in OPTIONAL_FLAGS if flags.get(flag)] + (["compiled"] if compiled else [])
+    return ", ".join(labels) or "-"
 
 
 def _print_table(title: str, kind: str, items: list[dict], columns: list[tuple[str, object]]) -> None:
@@ -127,7 +130,7 @@ def run(args) -> int:
         print(json.dumps(data, indent=2, default=str))
         return status
     _print_table("Bearing laws:", "law", data["laws"], [
-        ("flags", lambda law: _format_flags(law["flags"])),
+        ("flags", lambda law: _format_flags(law["flags"], law["compiled"])),
         ("parameters", lambda law: "; ".join(_format_parameter(p) for p in law["parameters"]) or "-"),
     ])
     print()

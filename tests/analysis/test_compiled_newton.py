@@ -52,7 +52,11 @@ CASES = {
         build_system(deck_model("bouc-wen", {"k": 4e8, "alpha": 0.05, "uy": 2e-4, "A": 1.0, "beta": 0.5, "gamma": 0.5, "n": 2.0})),
         [6.0, 4.0, 3.0],
     ),
-    # more bearing directions than hht_newton.SMALL: the reduced system solved by LAPACK
+    # a plugin's friction law with N in its stiffness too (dF/dN in stick and in slip)
+    "pendulum": lambda: (
+        build_system(deck_model("friction-pendulum", {"k": 4e8, "R": 2.24, "mu": 0.05})), [6.0, 4.0, 3.0],
+    ),
+    # many bearing directions (52): a larger reduced system
     "large": lambda: (
         build_system(connector_chain([2e4] * 52, [("regularized-coulomb", {"k": 4e8, "mu": 0.05 + 0.002 * (k % 7)})
                                                   for k in range(52)], 1e9)),
@@ -90,8 +94,8 @@ def _compare(a, b, rel=1e-7):
 
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_the_compiled_iteration_gives_the_python_iterations_response(case, monkeypatch):
-    if case == "bouc-wen":
-        pytest.importorskip("bearingfw_boucwen")
+    if case in ("bouc-wen", "pendulum"):
+        pytest.importorskip({"bouc-wen": "bearingfw_boucwen", "pendulum": "bearingfw_pendulum"}[case])
     system, amplitude = CASES[case]()
     ag = band_limited_noise(401, DT, seed=11, amplitude=amplitude)
     python_calls, compiled_calls = [], []

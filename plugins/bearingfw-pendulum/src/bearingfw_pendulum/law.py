@@ -155,6 +155,20 @@ class FrictionPendulum(_PendulumBase):
         mu = np.broadcast_to(_values(self.mu), (u.shape[0],))
         return pendulum_response(self, state, u, normal_force, mu)
 
+    def compiled(self, n: int) -> bearingfw.CompiledLaw:
+        """This law as a compiled function (``_kernel.friction_pendulum``): ``k``, ``R``, ``mu`` per
+        connector; the state the slip."""
+        from bearingfw_pendulum._kernel import friction_pendulum
+
+        check_per_bearing(self, n)
+        dims = self.dims
+        parameters = np.concatenate([np.broadcast_to(_values(v), (n,)) for v in (self.k, self.R, self.mu)])
+        return bearingfw.CompiledLaw(
+            friction_pendulum, parameters, dims,
+            pack=lambda state: np.ascontiguousarray(state["slip"], dtype=float).reshape(-1),
+            unpack=lambda array: {"slip": array.reshape(n, dims)},
+        )  # fmt: skip
+
 
 @attrs.frozen
 class VelocityFrictionPendulum(_PendulumBase):

@@ -56,6 +56,9 @@ CASES = {
     "pendulum": lambda: (
         build_system(deck_model("friction-pendulum", {"k": 4e8, "R": 2.24, "mu": 0.05})), [6.0, 4.0, 3.0],
     ),
+    "lead-rubber": lambda: (
+        build_system(deck_model("elastomeric-plasticity", {"k": 1.5e7, "qd": 1.5e5, "alpha": 0.1})), [4.0, 3.0, 2.0],
+    ),
     # many bearing directions (52): a larger reduced system
     "large": lambda: (
         build_system(connector_chain([2e4] * 52, [("regularized-coulomb", {"k": 4e8, "mu": 0.05 + 0.002 * (k % 7)})
@@ -94,8 +97,9 @@ def _compare(a, b, rel=1e-7):
 
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_the_compiled_iteration_gives_the_python_iterations_response(case, monkeypatch):
-    if case in ("bouc-wen", "pendulum"):
-        pytest.importorskip({"bouc-wen": "bearingfw_boucwen", "pendulum": "bearingfw_pendulum"}[case])
+    plugin = {"bouc-wen": "bearingfw_boucwen", "pendulum": "bearingfw_pendulum", "lead-rubber": "bearingfw_elastomeric"}
+    if case in plugin:
+        pytest.importorskip(plugin[case])
     system, amplitude = CASES[case]()
     ag = band_limited_noise(401, DT, seed=11, amplitude=amplitude)
     python_calls, compiled_calls = [], []

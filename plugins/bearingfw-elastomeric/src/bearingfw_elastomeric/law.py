@@ -100,6 +100,20 @@ class ElastomericPlasticity:
         check_per_bearing(self, n)
         return {"plastic": np.zeros((n, self.dims))}
 
+    def compiled(self, n: int) -> bearingfw.CompiledLaw:
+        """This law as a compiled function (``_kernel.elastomeric_plasticity``): ``k``, ``qd``, ``alpha``
+        per connector; the state the plastic displacement."""
+        from bearingfw_elastomeric._kernel import elastomeric_plasticity
+
+        check_per_bearing(self, n)
+        dims = self.dims
+        parameters = np.concatenate([np.broadcast_to(np.asarray(v, dtype=float), (n,)) for v in (self.k, self.qd, self.alpha)])
+        return bearingfw.CompiledLaw(
+            elastomeric_plasticity, parameters, dims,
+            pack=lambda state: np.ascontiguousarray(state["plastic"], dtype=float).reshape(-1),
+            unpack=lambda array: {"plastic": array.reshape(n, dims)},
+        )  # fmt: skip
+
     def slip(self, state) -> np.ndarray:
         """The irreversible displacement ``(1 - alpha) u_p``: where the bearing comes to rest at zero
         force when unloaded (the kinematic-hardening plastic displacement, module docstring)."""

@@ -630,7 +630,10 @@ class State:
     #: fast path: ``(operator, tangents, coupling, lu, piv)``, the LU factors of the condensed Jacobian
     #: that the step's last Newton correction factorised, with the operator and the tangents and
     #: coupling it was formed from; the next step's predictor solves with that matrix
-    #: (:func:`_predict`). None: not available.
+    #: (:func:`_predict`). None: not available. The compiled iteration keeps its own here,
+    #: ``("reduced", operator, tangents, coupling, E per row, packed states, states, lu, piv)``: the
+    #: factors of its reduced system (:mod:`~bearingfw.analysis.hht_newton`), which the Python
+    #: predictor never takes for its own (the first entry is not an operator).
     jacobian: tuple | None = None
 
 

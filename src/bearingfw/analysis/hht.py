@@ -977,7 +977,8 @@ def _solve_compiled(p: Problem, op: Operator, s: State, r: np.ndarray, h: float,
         elif s.coupling is not None:  # E as the Python iteration keeps it, (m, n_c): E_k per row
             rows = np.flatnonzero(plan.ecol >= 0)
             ev_n[rows] = s.coupling[rows, plan.ecol[rows]]
-    tangents = s.tangents if s.tangents is not None else _EMPTY
+    # (a read-only or strided array would make numba compile another version of the iteration)
+    tangents = kernel_array(s.tangents) if s.tangents is not None else _EMPTY
     sch = p.scheme
     c = 1.0 + sch.alpha
     offset = motion.offset if motion.offset is not None else _EMPTY

@@ -97,48 +97,39 @@ def _reduced_matrix(tangent, starts, dims, offsets, cS, ev, ecol, cVW, J):
                 J[i, j] -= e * cVW[col, j]
 
 
+def _address_call(context, builder, sig, args):
+    """Code for calling the C function at the address ``args[0]`` with the other arguments, each
+    array as its data pointer: how the compiled laws and LAPACK's routines take them."""
+    values = [
+        context.make_array(ty)(context, builder, value).data if isinstance(ty, types.Array) else value
+        for ty, value in zip(sig.args[1:], args[1:])
+    ]
+    void = sig.return_type == types.void
+    returns = ir.VoidType() if void else context.get_value_type(sig.return_type)
+    function = ir.FunctionType(returns, [value.type for value in values])
+    result = builder.call(builder.inttoptr(args[0], function.as_pointer()), values)
+    return context.get_dummy_value() if void else result
+
+
 @intrinsic
 def _call_law(typingctx, address, parameters, state, u, normal_force, n, dims, dt, force, tangent, dfdn, new_state):
     """Call the compiled law at ``address`` (:func:`bearingfw.jit.law_signature`) with the data of
     these arrays. The address is a run-time value, so what calls this is cached on disk like any
     kernel (numba caches no function that takes other compiled functions as arguments)."""
     signature = types.int64(address, parameters, state, u, normal_force, n, dims, dt, force, tangent, dfdn, new_state)
-
-    def codegen(context, builder, sig, args):
-        double_p, i64 = ir.DoubleType().as_pointer(), ir.IntType(64)
-        function = ir.FunctionType(i64, [double_p] * 4 + [i64, i64, ir.DoubleType()] + [double_p] * 4)
-        pointer = builder.inttoptr(args[0], function.as_pointer())
-        values = [
-            context.make_array(ty)(context, builder, value).data if isinstance(ty, types.Array) else value
-            for ty, value in zip(sig.args[1:], args[1:])
-        ]
-        return builder.call(pointer, values)
-
-    return signature, codegen
-
-
-def _pointer_call(context, builder, sig, args):
-    """Code for calling the C function at ``args[0]`` with the data pointers of the other arguments
-    (arrays): how LAPACK's routines take every argument, numbers included."""
-    byte_p = ir.IntType(8).as_pointer()
-    function = ir.FunctionType(ir.VoidType(), [byte_p] * (len(args) - 1))
-    pointer = builder.inttoptr(args[0], function.as_pointer())
-    values = [builder.bitcast(context.make_array(ty)(context, builder, value).data, byte_p)
-              for ty, value in zip(sig.args[1:], args[1:])]  # fmt: skip
-    builder.call(pointer, values)
-    return context.get_dummy_value()
+    return signature, _address_call
 
 
 @intrinsic
 def _getrf(typingctx, address, m, n, a, lda, ipiv, info):
     """LAPACK's ``dgetrf`` at ``address`` (scipy's, :func:`lapack`): LU factors with partial pivoting."""
-    return types.void(address, m, n, a, lda, ipiv, info), _pointer_call
+    return types.void(address, m, n, a, lda, ipiv, info), _address_call
 
 
 @intrinsic
 def _getrs(typingctx, address, trans, n, nrhs, a, lda, ipiv, b, ldb, info):
     """LAPACK's ``dgetrs`` at ``address``: a solve with ``dgetrf``'s factors."""
-    return types.void(address, trans, n, nrhs, a, lda, ipiv, b, ldb, info), _pointer_call
+    return types.void(address, trans, n, nrhs, a, lda, ipiv, b, ldb, info), _address_call
 
 
 def lapack() -> np.ndarray:

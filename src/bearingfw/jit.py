@@ -7,7 +7,7 @@ into the user's cache directory (``NUMBA_CACHE_DIR``). Where neither can be writ
 is compiled in memory in each process instead (a few seconds) rather than failing the import.
 
 Compiled laws (:class:`bearingfw.protocol.CompiledLaw`): a law's arithmetic as a C-callable
-function of one common signature (:data:`LAW_SIGNATURE`, :func:`law_kernel`), which the compiled
+function of one common signature (:func:`law_signature`, :func:`law_kernel`), which the compiled
 Newton iteration of a time step (:mod:`bearingfw.analysis.hht_newton`) calls through its address,
 so that iteration is compiled once for every law and cached.
 """
@@ -76,5 +76,3 @@ def law_kernel(function):
         return cfunc(law_signature(), cache=True, error_model="numpy")(function)
     except RuntimeError:  # no cache locator: compiled in memory
         return cfunc(law_signature(), error_model="numpy")(function)
-
-

@@ -142,5 +142,6 @@ def test_the_balance_error_exposes_a_scheme_error_that_the_imbalance_blurs(monke
         return rhs - p.scheme.alpha * s.Bt_phi, xt, vt
 
     monkeypatch.setattr(hht, "effective_rhs", without_law_weighting)
+    monkeypatch.setattr(hht, "COMPILED_STEPS", False)  # every step through hht.step, which calls the mutant
     _, bad = run(r, P0 / M, cycles=5, per_cycle=per)
     assert bad.balance_error > 1e-3

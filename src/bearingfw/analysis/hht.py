@@ -40,7 +40,10 @@ the same sums, without the dispatch that costs more than the product at a few hu
 When every law of a run offers a compiled function (``compiled(n)``, :mod:`bearingfw.protocol`)
 and none uses the velocity, the fast path's whole Newton iteration below is one compiled call
 (:mod:`bearingfw.analysis.hht_newton`, :class:`CompiledLaws`); a step it cannot finish is solved
-again by the Python iteration here, which reports failures.
+again by the Python iteration here, which reports failures. The time loop runs consecutive steps
+of one size in one compiled call where a step needs nothing Python does (no laws, linear laws,
+or compiled laws, under uniform support motion: :func:`steps_plan`, :func:`advance_steps`,
+:mod:`bearingfw.analysis.hht_steps`); a step that call cannot finish comes back to :func:`step`.
 
 Fast path (static condensation onto the ``m`` governed bearing directions): with
 ``W = A^{-1} B^T`` (n x m), ``S = B W`` (m x m) and ``x_lin = A^{-1} r`` (one back-substitution),
@@ -959,8 +962,42 @@ def _solve_compiled(p: Problem, op: Operator, s: State, r: np.ndarray, h: float,
     """:func:`_solve_fast_python` as one compiled call (:mod:`~bearingfw.analysis.hht_newton`); None
     when it did not converge (or a law declined): the Python iteration then solves the step again
     and reports what went wrong."""
-    plan, m = p.compiled, p.m
+    plan = p.compiled
     newton = _newton()
+    carried = _carried(p, op, s)
+    c = 1.0 + p.scheme.alpha
+    offset = motion.offset if motion.offset is not None else _EMPTY
+    operands = _newton_operands(p, op)
+    status, iterations, halvings, x, f, d, N, phi, tangent, ev, states_packed, lu, piv = newton.solve_condensed(
+        *operands[:21],
+        op.solve(r), kernel_array(offset), kernel_array(s.f), kernel_array(s.d), kernel_array(s.N), *carried,
+        *operands[21:23], h, c, force_scale, *operands[23:],
+    )  # fmt: skip
+    if status != newton.CONVERGED:
+        return None
+    states = plan.unpack(states_packed)
+    return x, f, d, N, states, iterations, halvings, _compiled_linearised(p, op, tangent, ev, states_packed, states, lu, piv, phi)
+
+
+def _newton_operands(p: Problem, op: Operator) -> tuple:
+    """:func:`~bearingfw.analysis.hht_newton.solve_condensed`'s operands that depend on the problem
+    and the step size only: the 21 before ``x_lin``, LAPACK's addresses and ``trans``, and the 6
+    tolerances and limits after ``force_scale``."""
+    plan, m = p.compiled, p.m
+    cVW = op.cVW if op.cVW is not None else np.zeros((0, m))
+    return (
+        plan.laws, plan.groups, plan.parameters, plan.springs, *p.layout, plan.ecol, plan.ekv, p.coupled,
+        p.kv_coupled, *plan.bv, p.d0, p.N0, p.kv, p.f0, op.cSN, op.cW, cVW,
+        plan.lapack, _newton()._TRANSPOSED,
+        p.tol_force, p.tol_displacement, p.d0_size, p.max_iterations, BACKTRACKS, _ARMIJO, _ROUND,
+    )  # fmt: skip
+
+
+def _carried(p: Problem, op: Operator, s: State) -> tuple:
+    """What the compiled iteration takes from the last step: its tangents, ``E_k`` per row, packed
+    law states, and the LU factors of the predictor's matrix with whether they are that matrix's
+    (``(tangents, ev, packed, lu, piv, reuse)``)."""
+    plan, m = p.compiled, p.m
     # the last step's: (_REDUCED, operator, tangents, E, E per row, packed states, states, LU, pivots)
     jacobian = s.jacobian if s.jacobian is not None and s.jacobian[0] is _REDUCED else None
     if jacobian is not None and jacobian[6] is s.law_states:
@@ -979,27 +1016,17 @@ def _solve_compiled(p: Problem, op: Operator, s: State, r: np.ndarray, h: float,
             ev_n[rows] = s.coupling[rows, plan.ecol[rows]]
     # (a read-only or strided array would make numba compile another version of the iteration)
     tangents = kernel_array(s.tangents) if s.tangents is not None else _EMPTY
-    sch = p.scheme
-    c = 1.0 + sch.alpha
-    offset = motion.offset if motion.offset is not None else _EMPTY
-    cVW = op.cVW if op.cVW is not None else np.zeros((0, m))
-    status, iterations, halvings, x, f, d, N, phi, tangent, ev, states_packed, lu, piv = newton.solve_condensed(
-        plan.laws, plan.groups, plan.parameters, plan.springs, *p.layout, plan.ecol, plan.ekv, p.coupled, p.kv_coupled,
-        *plan.bv, p.d0, p.N0, p.kv, p.f0, op.cSN, op.cW, cVW,
-        op.solve(r), kernel_array(offset), kernel_array(s.f), kernel_array(s.d), kernel_array(s.N), tangents, ev_n,
-        packed, lu_n, piv_n, reuse, plan.lapack, newton._TRANSPOSED,
-        h, c, force_scale, p.tol_force, p.tol_displacement, p.d0_size, p.max_iterations, BACKTRACKS, _ARMIJO, _ROUND,
-    )  # fmt: skip
-    if status != newton.CONVERGED:
-        return None
-    states = plan.unpack(states_packed)
+    return tangents, ev_n, packed, lu_n, piv_n, reuse
+
+
+def _compiled_linearised(p: Problem, op: Operator, tangent, ev, packed, states, lu, piv, phi) -> tuple:
+    """The compiled iteration's ``(tangents, E, jacobian, phi)`` for the state (:attr:`State.jacobian`)."""
     E = None
     if ev.any():  # E as the Python iteration keeps it (a later step may run there)
         rows = np.flatnonzero(ev)
-        E = np.zeros((m, p.coupled.size))
-        E[rows, plan.ecol[rows]] = ev[rows]
-    linearised = (tangent, E, (_REDUCED, op, tangent, E, ev, states_packed, states, lu, piv), phi)
-    return x, f, d, N, states, iterations, halvings, linearised
+        E = np.zeros((p.m, p.coupled.size))
+        E[rows, p.compiled.ecol[rows]] = ev[rows]
+    return tangent, E, (_REDUCED, op, tangent, E, ev, packed, states, lu, piv), phi
 
 
 def _newton():
@@ -1271,3 +1298,125 @@ def step(
         coupling, xva, jacobian,
     )
     return state, iterations, backtracks
+
+
+# ---- many steps in one compiled call (hht_steps) ----------------------------------------------
+
+#: False: every step goes through :func:`step` (for comparisons; tests)
+COMPILED_STEPS = True
+
+#: about how many bytes a run of compiled steps keeps for its states (:attr:`StepsPlan.block`)
+STEPS_BYTES = 8_000_000
+
+
+@attrs.frozen(eq=False)
+class StepsPlan:
+    """What :func:`advance_steps` hands the compiled steps (:mod:`~bearingfw.analysis.hht_steps`) for
+    one step size, made by :func:`steps_plan`."""
+
+    p: Problem
+    op: Operator
+    mode: int
+    operands: tuple  # hht_steps.advance's arguments before ``h``
+    block: int  # steps per call: their states take about STEPS_BYTES
+
+
+def steps_plan(p: Problem, op: Operator) -> StepsPlan | None:
+    """The compiled steps of size ``op.h`` (:mod:`~bearingfw.analysis.hht_steps`), or None when a
+    step needs Python: the general path, a law using the velocity, laws neither linear (folded) nor
+    all compiled, or factors too large to copy (:class:`Factors`). Only for uniform support motion:
+    a step under differential motion has an offset, which the caller must not give here."""
+    factors = getattr(op.solve, "__self__", None)
+    if not (COMPILED_STEPS and p.fast) or p.ops.any_velocity or not isinstance(factors, Factors):
+        return None
+    if not factors._compiled:  # (this module's own class)
+        return None
+    steps = _steps()
+    if op.linear is not None:
+        mode = steps.FOLDED
+    elif not p.m:
+        mode = steps.NO_LAWS
+    elif p.compiled is not None:
+        mode = steps.NEWTON
+    else:
+        return None
+    if mode == steps.NEWTON:
+        newton = _newton_operands(p, op)
+    else:  # the same types, empty where the iteration is not run (one compiled version of advance)
+        i64 = np.int64
+        none = np.zeros(0, dtype=i64)
+        newton = (
+            none, np.zeros((0, 7), dtype=i64), _EMPTY, none, *p.layout, np.full(p.m, -1, dtype=i64), np.zeros(p.m),
+            p.coupled, p.kv_coupled, *_csr32(sp.vstack([p.B, p.V])), p.d0, p.N0, p.kv, p.f0, _EMPTY2, _EMPTY2, _EMPTY2,
+            np.zeros(2, dtype=i64), _newton()._TRANSPOSED,
+            p.tol_force, p.tol_displacement, p.d0_size, p.max_iterations, BACKTRACKS, _ARMIJO, _ROUND,
+        )  # fmt: skip
+    h, sch = op.h, p.scheme
+    T, weights = _rhs_weights(p, h)
+    mk, bt = p.csr
+    linear = np.ascontiguousarray(op.linear, dtype=float) if op.linear is not None else _EMPTY2
+    operands = (
+        mode, factors._arrays, T, weights, mk, bt, sch.beta * h * h, sch.gamma * h, p.a0, p.a1, sch.alpha,
+        p.force_floor, linear, *newton,
+    )  # fmt: skip
+    n = p.M.shape[0]
+    block = max(1, STEPS_BYTES // (8 * _kernels().ROWS * max(n, 1)))
+    return StepsPlan(p, op, mode, operands, block)
+
+
+def advance_steps(plan: StepsPlan, s: State, times, loads: np.ndarray) -> tuple[list[State], np.ndarray, np.ndarray]:
+    """Steps of size ``plan.op.h`` from ``s`` to each of ``times`` (consecutive), under the dynamic
+    loads ``loads`` (one row per step), in one compiled call: exactly the arithmetic of :func:`step`.
+
+    Returns the states reached, with the Newton iterations and halvings of each. Fewer states than
+    times: the next step could not be finished there (a law declined, a non-finite iterate, no
+    convergence); :func:`step` must solve it (and report why, or halve it)."""
+    p, op, steps = plan.p, plan.op, _steps()
+    n, m, k = s.x.size, p.m, len(times)
+    xva = s.xva if s.xva is not None else np.stack((s.x, s.v, s.a))
+    start = np.concatenate((xva, s.products.reshape(6, n), np.stack((s.Bt_phi, s.Cv, s.G, s.rho, s.ae))))
+    if plan.mode == steps.NEWTON:
+        carried = _carried(p, op, s)
+    else:
+        carried = (_EMPTY, np.zeros(m), _EMPTY, _EMPTY2, _NO_PIVOTS, False)
+    e = s.energy
+    energy_n = np.array([e.kinetic, e.strain, e.damping, e.bearings, e.input, e.numerical])
+    OUT = np.empty((k, _kernels().ROWS, n))
+    F, D, NN = np.empty((k, m)), np.empty((k, m)), np.empty((k, p.kv.size))
+    S = np.empty((k, carried[2].size))
+    ENERGY = np.empty((k, 7))
+    iterations, backtracks = np.zeros(k, dtype=np.int64), np.zeros(k, dtype=np.int64)
+    done, tangent, ev, lu, piv, phi = steps.advance(
+        *plan.operands, op.h, start, kernel_array(s.load), energy_n, kernel_array(s.f), kernel_array(s.d),
+        kernel_array(s.N), *carried, kernel_array(loads), OUT, F, D, NN, S, ENERGY, iterations, backtracks,
+    )  # fmt: skip
+    states = []
+    for j in range(done):
+        out = OUT[j]
+        xva = out[0:3]
+        products = out[3:9].reshape(2, 3, n)
+        law_states = p.compiled.unpack(S[j]) if plan.mode == steps.NEWTON else s.law_states
+        row = ENERGY[j]
+        energy = Energy(row[0], row[1], row[2], row[3], row[4], row[6])
+        linearised = (None, None, None)
+        if j == done - 1 and plan.mode == steps.NEWTON:  # the next step's predictor takes these
+            linearised = _compiled_linearised(p, op, tangent, ev, S[j], law_states, lu, piv, phi)[:3]
+        states.append(
+            State(
+                times[j], xva[0], xva[1], xva[2], F[j], D[j], NN[j], law_states, loads[j], products[0, 1],
+                products[1, 1], energy, out[10], products[0, 2], out[9], out[11], out[12], out[13], linearised[0],
+                products, linearised[1], xva, linearised[2],
+            )
+        )  # fmt: skip
+    return states, iterations[:done], backtracks[:done]
+
+
+def _steps():
+    """:mod:`bearingfw.analysis.hht_steps`, imported at the first run of compiled steps."""
+    global _STEPS
+    if _STEPS is None:
+        from bearingfw.analysis import hht_steps as _STEPS
+    return _STEPS
+
+
+_STEPS = None

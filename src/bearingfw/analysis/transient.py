@@ -299,6 +299,11 @@ class _Run:
             self.stats["subdivisions"] += 1
             mid = self.advance(s, t0, h / 2, depth + 1)
             return self.advance(mid, t0 + h / 2, h / 2, depth + 1)
+        self.committed(s, new, iterations, backtracks, h)
+        return new
+
+    def committed(self, s: hht.State, new: hht.State, iterations: int, backtracks: int, h: float) -> None:
+        """Count a converged (sub)step from ``s`` to ``new``."""
         self.stats["substeps"] += 1
         self.stats["iterations"] += iterations
         self.stats["backtracks"] += backtracks
@@ -306,19 +311,46 @@ class _Run:
         if self.uplift is not None:
             self.uplift.advance(s.d, new.d, h)
         self.last = new
-        return new
 
     def run(self, state: hht.State, max_halvings: int) -> hht.State:
         self.max_halvings = max_halvings
         self.record(state, 0)
         total = self.n_steps
-        for n in range(total):
-            state = self.advance(state, n * self.h, self.h, 0)
-            self.stats["steps"] = n + 1
-            self.record(state, n + 1)
-            if self.progress is not None and (100 * (n + 1)) // total > (100 * n) // total:
-                self.progress((n + 1) / total)  # each whole percent once
+        h = self.h
+        # runs of steps in one compiled call where a step needs no Python (hht.steps_plan); uniform
+        # motion only (a step under differential motion has an offset)
+        plan = hht.steps_plan(self.p, self.operator(h)) if self.exc.differential is None else None
+        n = 0
+        length = plan.block if plan is not None else 0  # steps asked of the next compiled call
+        while n < total:
+            if plan is not None:
+                times = [(n + j) * h + h for j in range(min(length, total - n))]
+                loads = np.array([self.exc.load(t) for t in times])
+                self.attempt = times[0]
+                states, iterations, backtracks = hht.advance_steps(plan, state, times, loads)
+                for new, its, back in zip(states, iterations.tolist(), backtracks.tolist(), strict=True):
+                    self.attempt = new.t
+                    self.committed(state, new, its, back, h)
+                    state = new
+                    n += 1
+                    self.after_step(state, n, total)
+                if len(states) == len(times):
+                    length = min(plan.block, 2 * length)
+                    continue
+                # where a law keeps declining, a call per step costs little: ask for one step, then more
+                length = length if states else 1
+            # a step the compiled run could not finish (or every step without a plan): Python, with halvings
+            state = self.advance(state, n * h, h, 0)
+            n += 1
+            self.after_step(state, n, total)
         return state
+
+    def after_step(self, state: hht.State, n: int, total: int) -> None:
+        """Record step ``n`` (of ``total``) and report progress."""
+        self.stats["steps"] = n
+        self.record(state, n)
+        if self.progress is not None and (100 * n) // total > (100 * (n - 1)) // total:
+            self.progress(n / total)  # each whole percent once
 
 
 class _Failed(Exception):

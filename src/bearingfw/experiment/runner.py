@@ -556,10 +556,9 @@ def _early_figures(experiment: Experiment, checked: Checked, store: Store, todo,
     """A :class:`~bearingfw.experiment.figures.FigureDrawer` that draws each record and intensity's
     figures as soon as this run's cells of it are finished (None: no figures, or the serial
     executor, whose cells keep this process busy: its figures are drawn after them)."""
-    from bearingfw.experiment.figures import FigureDrawer
-
     if not _draws(experiment) or not todo or executor.name == "serial":
         return None
+    from bearingfw.experiment.figures import FigureDrawer  # here: matplotlib's import is not free
     every = recording(experiment)
     groups: dict = {}
     plan = {**figure_plan(experiment, checked, None), "every": every}
@@ -580,15 +579,14 @@ def _draw(experiment: Experiment, checked: Checked, store: Store, results: _Resu
           progress: Progress, early=None) -> list:
     """The figures, from the histories stored for the current inputs of the finished cells (those
     ``early`` drew while the cells ran are not drawn again)."""
-    from bearingfw.experiment.figures import write_figures
-    from bearingfw.motion.plot import plot_intensity_chart
-
     drawn = {}
     if early is not None:
         early.stop()
         drawn = early.drawn()
     if not _draws(experiment):
         return []
+    from bearingfw.experiment.figures import write_figures  # here: matplotlib's import is not free
+    from bearingfw.motion.plot import plot_intensity_chart
     synthetic = next((checked.records[r] for r in experiment.record_names if checked.records[r].synthetic), None)
     scale = get_scale(experiment.intensities.scale, checked.registry)
     points = results.points

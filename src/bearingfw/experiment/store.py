@@ -327,7 +327,7 @@ class Store:
         buffer = io.BytesIO()
         with np.errstate(over="ignore"):  # beyond float32's range is inf (the cell's checks judge the values)
             arrays = {k: np.asarray(v, dtype=np.float32) for k, v in histories.items()}
-        np.savez_compressed(buffer, meta=np.array(json.dumps(jsonable(meta))), **arrays)
+        _savez(buffer, {"meta": np.array(json.dumps(jsonable(meta))), **arrays})
         data = buffer.getvalue()
         return atomic_write(self.cell_npz(cell_id), data), hashlib.sha256(data).hexdigest()
 
@@ -421,3 +421,12 @@ def _describe(holder: dict | None) -> str:
         return "a process that has not said who it is yet"
     return (f"pid {holder.get('pid')} on host {holder.get('host')}, experiment {holder.get('experiment')!r}, "
             f"since {holder.get('since')}")
+
+
+def _savez(file, arrays: Mapping[str, np.ndarray]) -> None:
+    """``np.savez_compressed`` at zlib's fastest level: float32 histories shrink about as much at
+    level 1 as at numpy's level 6 (within 1 %) in half the time. ``np.load`` reads it as any .npz."""
+    with zipfile.ZipFile(file, "w", zipfile.ZIP_DEFLATED, compresslevel=1) as archive:
+        for name, value in arrays.items():
+            with archive.open(f"{name}.npy", "w", force_zip64=True) as member:
+                np.lib.format.write_array(member, np.asanyarray(value), allow_pickle=False)

@@ -29,7 +29,7 @@ import attrs
 
 from bearingfw.analysis import Rayleigh, TransientError, gravity, solve_transient
 from bearingfw.experiment.acceptance import SUSPECT, accept_cell
-from bearingfw.experiment.cells import CellJob, recording
+from bearingfw.experiment.cells import CellJob, canonical_json, recording
 from bearingfw.experiment.metrics import MIN_NORMAL_FRACTION, metric_families, recorders, reduce_result
 from bearingfw.experiment.purity import LawPurityError, law_purity_problems
 from bearingfw.experiment.records import ground_motion, load_record, scaled_record
@@ -45,8 +45,8 @@ from bearingfw.model import as_system
 from bearingfw.motion import get_scale, record_degree, record_pga_h10, record_t_ha
 
 __all__ = [
-    "CellOutcome", "CellSummary", "CellTimeout", "compute_and_store", "compute_cell", "failed_outcome", "time_limit",
-    "write_outcome",
+    "CellOutcome", "CellSummary", "CellTimeout", "compute_and_store", "compute_cell", "failed_outcome",
+    "forget_shared", "time_limit", "write_outcome",
 ]
 
 #: Lines of traceback kept with a failed cell.
@@ -139,7 +139,8 @@ def _scaled_record(job: CellJob, registry):
     that is the reference group's acceleration as an array) and its measures."""
     experiment = job.experiment
     spec = experiment.record(job.record)
-    record = scaled_record(load_record(experiment, spec, registry), job.intensity, experiment.intensities,
+    loaded = _shared(job, _RECORD_INPUTS, lambda: load_record(experiment, spec, registry))
+    record = scaled_record(loaded, job.intensity, experiment.intensities,
                            experiment.integration.dt_integration, registry,
                            min_peak_ratio=experiment.run.min_peak_ratio)
     measures = {
@@ -155,14 +156,14 @@ def _scaled_record(job: CellJob, registry):
     return record, ground, measures
 
 
-def _shake(job: CellJob, model, system, ag, dt, elements, nodes):
+def _shake(job: CellJob, model, system, preload, ag, dt, elements, nodes):
     """The dead load, then the ground motion ``ag``: the transient result (a failed analysis: what it computed
     up to the failure, and the error to raise once that is kept)."""
     experiment = job.experiment
     damping = Rayleigh(job.inputs["damping"]["alpha"], job.inputs["damping"]["beta"])
     try:
         return solve_transient(system, ag, dt, settings=experiment.integration, damping=damping,
-                               recorders=recorders(elements, nodes, model), preload=gravity(system)), None
+                               recorders=recorders(elements, nodes, model), preload=preload), None
     except TransientError as exc:  # keep what was computed up to the failure, for diagnosis
         return exc.result, exc
 
@@ -287,21 +288,59 @@ def compute_cell(job: CellJob) -> CellOutcome:
     return CellOutcome(document, histories, kept.get("meta"))
 
 
+#: Per process, what the cells of one bearing model (and of one record) share: the model, its system
+#: and dead load (the record as read), so that the intensities of a model computed in one process
+#: build them once (:func:`_shared`). Keyed by the parts of the cells' input digest they are made
+#: from, which hold the contents of every file that goes into them (builders, plugins, records): a
+#: changed input is a new key. Each run also empties it (:func:`forget_shared`).
+_SHARED: dict[str, object] = {}
+_SHARED_SIZE = 8
+
+
+def _shared(job: CellJob, parts: tuple[str, ...], make):
+    """``make()``, or what it gave for a cell whose inputs ``parts`` are these (module-level cache)."""
+    key = canonical_json([parts, {name: job.inputs.get(name) for name in parts}])
+    if key in _SHARED:
+        return _SHARED[key]
+    value = make()  # an exception is the cell's failure, and nothing is kept
+    if _SHARED_SIZE > 0:
+        while len(_SHARED) >= _SHARED_SIZE:
+            _SHARED.pop(next(iter(_SHARED)))  # the oldest
+        _SHARED[key] = value
+    return value
+
+
+def forget_shared() -> None:
+    """Empty the per-process cache of models, systems and records (:func:`_shared`); each run starts
+    with it empty."""
+    _SHARED.clear()
+
+
+#: the inputs a cell's model, system and dead load are made from, and its record
+_MODEL_INPUTS = ("structure", "code", "model", "plugins")
+_RECORD_INPUTS = ("record", "code", "integration", "plugins")
+
+
 def _compute(job: CellJob, document: dict, kept: dict) -> None:
     """The cell's work: fills ``document`` (status ok or suspect) and ``kept`` (``histories`` and their
     ``meta``, if kept: also those of a failed analysis, up to the failure); raises on a failure."""
     experiment = job.experiment
     registry = registry_for(experiment.plugins, import_paths(experiment))
-    model = build_model(experiment, experiment.model(job.model), registry)
+
+    def assemble():
+        model = build_model(experiment, experiment.model(job.model), registry)
+        system = as_system(model, registry)
+        return model, system, gravity(system)
+
+    model, system, preload = _shared(job, _MODEL_INPUTS, assemble)
     document["laws"] = _laws(model)
     elements = response_elements(experiment.structure, model)
     nodes = deck_nodes(experiment.structure, model)
     record, ag, document["record_measures"] = _scaled_record(job, registry)
-    system = as_system(model, registry)
     impure = law_purity_problems(system, model, record.dt)  # cheap; under the cell's time limit
     if impure:
         raise LawPurityError("; ".join(impure))
-    result, failure = _shake(job, model, system, ag, record.dt, elements, nodes)
+    result, failure = _shake(job, model, system, preload, ag, record.dt, elements, nodes)
     if result is not None:
         reduced, metrics = reduce_result(result, model, elements, nodes, metric_families(registry))
         document["stats"] = result.stats

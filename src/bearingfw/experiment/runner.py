@@ -41,6 +41,7 @@ from bearingfw.analysis.static import initial_stiffness_error
 from bearingfw.bridges import find_preset
 from bearingfw.experiment.acceptance import SUSPECT
 from bearingfw.experiment.cells import CellJob, plan_cells, recording
+from bearingfw.experiment.execute import forget_shared
 from bearingfw.experiment.executors import ProcessExecutor, local_workers
 from bearingfw.experiment.findings import Finding, check_findings
 from bearingfw.experiment.matrices import Matrices, collect_matrices, units_table, write_matrices
@@ -350,6 +351,7 @@ def run_experiment(
     locked for the run: :class:`~bearingfw.experiment.store.StoreError` if another run holds it.
     """
     wall = time.perf_counter()
+    forget_shared()  # what cells share in this process is made again for each run
     executor = executor or ProcessExecutor()
     progress = progress or Progress(quiet=True)
     store = Store(out or default_output(experiment))

@@ -186,3 +186,25 @@ def test_thinned_recorders_and_progress_are_those_of_the_python_loop(monkeypatch
     assert compiled_progress == python_progress and len(python_progress) == 100
     assert python["tip.time"].size == 250 // 7 + 1
     _same(compiled, python, 0.0)
+
+
+@pytest.mark.parametrize("nodal", [False, True], ids=["ground", "ground+nodal"])
+def test_the_loads_of_a_run_of_steps_are_those_of_each_instant(nodal):
+    """``Excitation.loads`` (array operations) gives, bit for bit, ``load(t)`` at each time: at the
+    samples, between them (sub-steps), before the start and past the end."""
+    from bearingfw.analysis.excitation import build_excitation
+
+    model = deck_model("regularized-coulomb", COULOMB)
+    system = build_system(model)
+    ag = band_limited_noise(41, 0.01, seed=2, amplitude=[6.0, 4.0, 3.0])
+    loads = None
+    if nodal:
+        loads = np.zeros(system.n_dof)
+        loads[::7] = 1e3
+    exc = build_excitation(system, ag, 0.01, loads, preload=gravity(system))
+    times = [-0.01, 0.0, 0.0025, 0.005, 0.01, 0.0175, 0.2, 0.3999, 0.4, 0.45]
+    rows = exc.loads(times)
+    assert rows.shape == (len(times), system.n_free)
+    for t, row in zip(times, rows, strict=True):
+        assert np.array_equal(row, exc.load(t)), t
+    assert np.abs(rows).max() > 0

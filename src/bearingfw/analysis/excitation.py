@@ -452,6 +452,23 @@ class Excitation:
             return self.nodal_full
         return self._sample(self.nodal_full, t)
 
+    def loads(self, times) -> np.ndarray:
+        """:meth:`load` at each of ``times`` (s), one row each, the same values; for uniform motion
+        without time-varying nodal loads as array operations (the time loop takes a run of steps'
+        loads at once, :mod:`bearingfw.analysis.hht_steps`)."""
+        times = np.asarray(times, dtype=float)
+        varying = self.nodal_full is not None and self.nodal_full.ndim > 1
+        if self.differential is not None or varying or self.steps == 1:
+            return np.array([self.load(t) for t in times.tolist()]).reshape(times.size, self.P.shape[0])
+        # _where and _sample, element by element as they compute one instant
+        tau = np.minimum(np.maximum(times / self.dt, 0.0), self.steps - 1.0)
+        i = np.minimum(tau.astype(np.int64), self.steps - 2)
+        w = (tau - i)[:, None]
+        table = self.acceleration
+        a = np.where(w == 0.0, table[i], (1.0 - w) * table[i] + w * table[i + 1])
+        F = self._inertia(a)
+        return F if self.nodal_full is None else F + self.T.T @ self.nodal_full
+
     def bearing_offset(self, t: float) -> tuple[np.ndarray, np.ndarray] | None:
         """What differential support motion adds, at ``t``, to the kernel's ``[B; V] x`` (the law
         displacements, then the vertical springs' shortening) and the rate of its ``B`` rows, or None.
@@ -465,10 +482,17 @@ class Excitation:
         dif = self.differential
         return dif.BV @ diff[0], dif.BV[: dif.m] @ diff[1]
 
+    def _inertia(self, a: np.ndarray) -> np.ndarray:
+        """``-P a`` for a ground acceleration ``a`` (3,), or for rows of them (k, 3): the three
+        products summed in this order, so that a row of many is bit for bit that of one instant
+        (a BLAS product may sum them otherwise for one vector than for a matrix)."""
+        P = self.P
+        return -(P[:, 0] * a[..., 0:1] + P[:, 1] * a[..., 1:2] + P[:, 2] * a[..., 2:3])
+
     def load(self, t: float) -> np.ndarray:
         """The dynamic load on the free DOFs at ``t``: ``-T^T M r a_g(t) + T^T f(t)``, and under
         differential motion ``- T^T M Psi delta''(t) - T^T K Psi delta(t)``."""
-        F = -(self.P @ self._sample(self.acceleration, t))
+        F = self._inertia(self._sample(self.acceleration, t))
         diff = self.support_differences(t)
         if diff is not None:
             F = F - self.differential.inertia @ diff[2] - self.differential.stiffness @ diff[0]

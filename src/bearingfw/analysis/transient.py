@@ -325,7 +325,7 @@ class _Run:
         while n < total:
             if plan is not None:
                 times = [(n + j) * h + h for j in range(min(length, total - n))]
-                loads = np.array([self.exc.load(t) for t in times])
+                loads = self.exc.loads(times)
                 self.attempt = times[0]
                 states, iterations, backtracks = hht.advance_steps(plan, state, times, loads)
                 for new, its, back in zip(states, iterations.tolist(), backtracks.tolist(), strict=True):

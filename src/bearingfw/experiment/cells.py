@@ -68,6 +68,10 @@ class CellJob:
     intensity: Intensity
     inputs: dict = attrs.field(eq=False, repr=False)
     digest: str = ""
+    #: the cell's record, ground motion and record measures, when the run prepared them once for
+    #: all the cells of a record and intensity (:func:`bearingfw.experiment.execute.prepare_records`);
+    #: None: the cell makes them itself
+    prepared: tuple | None = attrs.field(default=None, eq=False, repr=False)
 
     @property
     def id(self) -> str:

@@ -46,7 +46,7 @@ from bearingfw.motion import get_scale, record_degree, record_pga_h10, record_t_
 
 __all__ = [
     "CellOutcome", "CellSummary", "CellTimeout", "compute_and_store", "compute_cell", "failed_outcome",
-    "forget_shared", "time_limit", "write_outcome",
+    "forget_shared", "prepare_records", "time_limit", "write_outcome",
 ]
 
 #: Lines of traceback kept with a failed cell.
@@ -133,10 +133,31 @@ def failed_outcome(job: CellJob, exc: BaseException, wall_time: float = 0.0) -> 
     return CellOutcome(document)
 
 
+def prepare_records(jobs: list[CellJob]) -> list[CellJob]:
+    """The cells ``jobs``, each with its record prepared once for all the cells of its record and
+    intensity (:attr:`CellJob.prepared`): a worker then neither reads nor scales it (nor imports
+    the filters that measure it). A record that cannot be prepared here is left to its cells,
+    which fail with its error as they would have."""
+    prepared: dict = {}
+    out = []
+    for job in jobs:
+        key = (job.record, job.intensity.name)
+        if key not in prepared:
+            experiment = job.experiment
+            try:
+                prepared[key] = _scaled_record(job, registry_for(experiment.plugins, import_paths(experiment)))
+            except Exception:  # noqa: BLE001 - each cell reads it again and records the failure
+                prepared[key] = None
+        out.append(attrs.evolve(job, prepared=prepared[key]))
+    return out
+
+
 def _scaled_record(job: CellJob, registry):
     """The cell's record, read, on the integration grid and scaled to the cell's intensity, its ground motion
     (a (steps, 3) array, or for a spatially varying entry a :class:`~bearingfw.experiment.records.SpatialGround`
     that is the reference group's acceleration as an array) and its measures."""
+    if job.prepared is not None:
+        return job.prepared
     experiment = job.experiment
     spec = experiment.record(job.record)
     loaded = _shared(job, _RECORD_INPUTS, lambda: load_record(experiment, spec, registry))

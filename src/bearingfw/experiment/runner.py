@@ -41,7 +41,7 @@ from bearingfw.analysis.static import initial_stiffness_error
 from bearingfw.bridges import find_preset
 from bearingfw.experiment.acceptance import SUSPECT
 from bearingfw.experiment.cells import CellJob, plan_cells, recording
-from bearingfw.experiment.execute import forget_shared
+from bearingfw.experiment.execute import forget_shared, prepare_records
 from bearingfw.experiment.executors import ProcessExecutor, local_workers
 from bearingfw.experiment.findings import Finding, check_findings
 from bearingfw.experiment.matrices import Matrices, collect_matrices, units_table, write_matrices
@@ -385,7 +385,8 @@ def run_experiment(
             order = {group: k for k, group in enumerate(groups)}
             todo = sorted(work.todo, key=lambda j: order.get((j.record, j.intensity.name), len(order)))
         try:
-            executor.run(todo, store, finished)
+            # each record and intensity read and scaled once, here, for all its cells
+            executor.run(prepare_records(todo), store, finished)
         except BaseException:
             if early is not None:  # the figure being written is finished (never a part of a file), no more
                 early.stop(wait_for_queued=False)

@@ -11,7 +11,6 @@ from typing import ClassVar
 
 import attrs
 import numpy as np
-from scipy import signal
 from scipy.integrate import cumulative_trapezoid, trapezoid
 
 from bearingfw.motion.record import ROLES, G, Record
@@ -133,6 +132,8 @@ def lowpass(a, dt: float, spec: ZeroPhaseButterworth = H10_FILTER) -> np.ndarray
     nyquist = 0.5 / dt
     if spec.cutoff >= nyquist:
         return a.copy()
+    from scipy import signal  # here, not at the top: its import costs a second of CPU in every process
+
     sos = signal.butter(spec.order, spec.cutoff, btype="lowpass", fs=1.0 / dt, output="sos")
     # Pad (odd reflection) by three periods of the cut-off, not scipy's few samples: the start-up
     # transient then dies out in the padding instead of overshooting the record's first peaks.
@@ -334,6 +335,8 @@ def sdof_response(acc, dt: float, periods, damping: float = DEFAULT_DAMPING) -> 
     acc, dt = _signal(acc), _dt(dt)
     periods, damping = _periods(periods), _damping(damping)
     b, den = _oscillator_filters(2.0 * np.pi / periods, damping, np.full(periods.size, dt))
+    from scipy import signal  # here, not at the top: its import costs a second of CPU in every process
+
     return np.vstack([signal.lfilter(b[i], den[i], -acc) for i in range(periods.size)])
 
 
@@ -371,6 +374,8 @@ def response_spectrum(acc, dt: float, periods=None, damping: float = DEFAULT_DAM
         )
     samples = np.arange(a.size)
     substeps = np.maximum(1, np.ceil(SUBSTEPS_PER_PERIOD * dt / periods - 1e-9)).astype(int)  # per sample
+    from scipy import signal  # here, not at the top: its import costs a second of CPU in every process
+
     b, den = _oscillator_filters(2.0 * np.pi / periods, damping, dt / substeps)
     sd = np.empty(periods.size)
     for i, m in enumerate(substeps):

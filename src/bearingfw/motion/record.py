@@ -18,7 +18,6 @@ from typing import Any, ClassVar
 
 import attrs
 import numpy as np
-from scipy import signal
 
 from bearingfw.parameters import ParameterError, parameter
 
@@ -411,6 +410,8 @@ def resample(values: np.ndarray, dt_from: float, dt_to: float) -> np.ndarray:
             f"resampling {values.size} samples from dt = {dt_from:g} s to dt = {dt_to:g} s gives {size} samples, "
             f"outside the allowed range samples <= {MAX_SAMPLES}"
         )
+    from scipy import signal  # here, not at the top: its import costs a second of CPU in every process
+
     return signal.resample_poly(values, ratio.numerator, ratio.denominator)
 
 

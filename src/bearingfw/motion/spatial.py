@@ -102,7 +102,7 @@ import attrs
 import numpy as np
 
 from scipy import fft as sp_fft
-from scipy import signal, special
+from scipy import special
 
 from bearingfw.motion.metrics import SUBSTEPS_PER_PERIOD, _oscillator_filters
 from bearingfw.parameters import ParameterError, choice, integer_parameter, parameter
@@ -351,6 +351,8 @@ def _wavelet(t, omega, centre, width):
 def _wavelet_lags(bank: _Oscillators) -> np.ndarray:
     """Per oscillator, the time (s) from the centre of its own wavelet to the peak of its response to it."""
     dt, m = bank.dt, bank.substeps
+    from scipy import signal  # here, not at the top: its import costs a second of CPU in every process
+
     b, den = _oscillator_filters(bank.omega, WAVELET_DAMPING, dt / m)
     width = _WAVELET_PERIODS / bank.frequencies
     lag = np.empty(bank.frequencies.size)
@@ -365,6 +367,8 @@ def _wavelet_lags(bank: _Oscillators) -> np.ndarray:
 def _wavelet_step(u: list[np.ndarray], misfit: np.ndarray, target: np.ndarray, bank: _Oscillators,
                   lag: np.ndarray, n: int, tolerance: float) -> np.ndarray:
     """One signal's correction (n,): wavelets on every oscillator out of ``tolerance`` (module docstring)."""
+    from scipy import signal  # here, not at the top: its import costs a second of CPU in every process
+
     dt = bank.dt
     which, at, change, carries = [], [], [], []  # per row: oscillator, time of a peak, its wanted change, a wavelet?
     for i in np.flatnonzero(np.abs(misfit) > tolerance):

@@ -68,7 +68,6 @@ import math
 
 import attrs
 import numpy as np
-from scipy import optimize, signal
 
 from bearingfw.motion.metrics import band_energy_fraction, pga_h10, peak, t_ha
 from bearingfw.motion.record import Record
@@ -200,6 +199,8 @@ def synthetic_tremor(seed: int = 0, parameters: TremorParameters | None = None) 
         f, p.vertical_frequency, p.vertical_damping, p.vertical_highpass_frequency,
         p.vertical_highpass_damping, p.vertical_rolloff,
     )
+    from scipy import optimize, signal  # here, not at the top: scipy.signal's import costs a second of CPU
+
     baseline = signal.butter(p.baseline_order, p.baseline_cutoff, btype="highpass", fs=1.0 / p.dt, output="sos")
     angle = math.atan(p.peak_ratio)
     rng = np.random.default_rng(int(seed))

@@ -26,21 +26,9 @@ import numpy as np
 from numba import njit
 
 from bearingfw.analysis.hht_kernels import back_substitute, commit, predict
-from bearingfw.analysis.hht_newton import CONVERGED, solve_condensed
+from bearingfw.analysis.hht_newton import CONVERGED, _inf, solve_condensed
 
 NO_LAWS, FOLDED, NEWTON = 0, 1, 2
-
-
-@njit(cache=True)
-def _inf(a):
-    largest = 0.0
-    for i in range(a.shape[0]):
-        value = abs(a[i])
-        if value != value:
-            return value
-        if value > largest:
-            largest = value
-    return largest
 
 
 @njit(cache=True)

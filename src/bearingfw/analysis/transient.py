@@ -28,7 +28,11 @@ that divides the record's ``dt`` see interpolated values. If it still fails,
 :class:`TransientError` names the time, the connectors still moving and the residual, and holds
 the result recorded up to the last converged instant. An exception from a law, a recorder or the
 ``progress`` callback is wrapped the same way (a :class:`TransientError` with the partial result,
-the original as its ``__cause__``).
+the original as its ``__cause__``). Where a step needs no Python (:func:`bearingfw.analysis.hht.steps_plan`:
+no laws, linear laws or compiled laws, under uniform support motion), runs of consecutive steps
+are one compiled call each (:mod:`bearingfw.analysis.hht_steps`), with the same arithmetic; the
+recorders and the progress callback still see every step, and a step such a run cannot finish is
+solved (and halved, or reported) as above.
 
 Damping: :class:`~bearingfw.analysis.damping.Rayleigh`, ``C = alpha M + beta K_free`` with
 ``K_free`` the linear structure (not the laws: see :mod:`bearingfw.analysis.damping` for why;

@@ -208,3 +208,21 @@ def test_the_loads_of_a_run_of_steps_are_those_of_each_instant(nodal):
     for t, row in zip(times, rows, strict=True):
         assert np.array_equal(row, exc.load(t)), t
     assert np.abs(rows).max() > 0
+
+
+def test_an_error_inside_a_compiled_run_leaves_the_steps_to_python(monkeypatch):
+    """Whatever a compiled run raises, the Python steps solve those steps (and report an error at
+    the step where it happens): the run is the Python loop's."""
+    model = deck_model("regularized-coulomb", COULOMB)
+    ag = band_limited_noise(121, DT, seed=4, amplitude=[6.0, 4.0, 3.0])
+    python, _ = _run(model, ag, False, monkeypatch)
+    calls = []
+
+    def broken(*args, **kwargs):
+        calls.append(1)
+        raise FloatingPointError("inside the compiled run")
+
+    monkeypatch.setattr(hht, "advance_steps", broken)
+    compiled, through_step = _run(model, ag, True, monkeypatch)
+    assert calls and through_step == 120
+    _same(compiled, python, 0.0)

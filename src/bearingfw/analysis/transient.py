@@ -331,7 +331,10 @@ class _Run:
                 times = [(n + j) * h + h for j in range(min(length, total - n))]
                 loads = self.exc.loads(times)
                 self.attempt = times[0]
-                states, iterations, backtracks = hht.advance_steps(plan, state, times, loads)
+                try:
+                    states, iterations, backtracks = hht.advance_steps(plan, state, times, loads)
+                except Exception:  # noqa: BLE001 - the Python step meets it again, at its own step, and reports it
+                    states, iterations, backtracks = [], np.zeros(0, dtype=int), np.zeros(0, dtype=int)
                 for new, its, back in zip(states, iterations.tolist(), backtracks.tolist(), strict=True):
                     self.attempt = new.t
                     self.committed(state, new, its, back, h)

@@ -226,3 +226,23 @@ def test_an_error_inside_a_compiled_run_leaves_the_steps_to_python(monkeypatch):
     compiled, through_step = _run(model, ag, True, monkeypatch)
     assert calls and through_step == 120
     _same(compiled, python, 0.0)
+
+
+def test_each_state_of_a_compiled_run_has_its_own_arrays(monkeypatch):
+    """A recorder that keeps every k-th state keeps that state's arrays only, not the whole run of steps."""
+    from bearingfw.analysis.transient import build_problem
+
+    system = build_system(deck_model("regularized-coulomb", COULOMB))
+    pre = gravity(system)
+    p = build_problem(system, pre, Rayleigh(0.21, 0.00208), TransientSettings())
+    plan = hht.steps_plan(p, hht.build_operator(p, DT))
+    n = p.M.shape[0]
+    start = hht.initial_state(p, tuple(pre.law_states), np.zeros(n), np.zeros(n))
+    times = [DT * (k + 1) for k in range(6)]
+    loads = np.random.default_rng(1).normal(size=(6, n)) * 1e5
+    states, _, _ = hht.advance_steps(plan, start, times, loads)
+    assert len(states) == 6
+    for a, b in zip(states, states[1:]):
+        for field in ("x", "v", "a", "ae", "products"):
+            assert not np.shares_memory(getattr(a, field), getattr(b, field)), field
+    assert states[2].x.base is None or states[2].x.base.size <= 14 * n  # one step's rows

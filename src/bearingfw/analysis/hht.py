@@ -1392,7 +1392,9 @@ def advance_steps(plan: StepsPlan, s: State, times, loads: np.ndarray) -> tuple[
     )  # fmt: skip
     states = []
     for j in range(done):
-        out = OUT[j]
+        # each state its own arrays (as a Python step's): a recorder that keeps every k-th state must
+        # not keep the whole run of steps alive
+        out = OUT[j].copy()
         xva = out[0:3]
         products = out[3:9].reshape(2, 3, n)
         law_states = p.compiled.unpack(S[j]) if plan.mode == steps.NEWTON else s.law_states

@@ -68,10 +68,12 @@ class CellJob:
     intensity: Intensity
     inputs: dict = attrs.field(eq=False, repr=False)
     digest: str = ""
-    #: the cell's record, ground motion and record measures, when the run prepared them once for
-    #: all the cells of a record and intensity (:func:`bearingfw.experiment.execute.prepare_records`);
+    #: ``((record, ground motion, record measures), warnings)`` when the run prepared them once for
+    #: all the cells of a record and intensity (:func:`bearingfw.experiment.execute.prepare_cells`);
     #: None: the cell makes them itself
     prepared: tuple | None = attrs.field(default=None, eq=False, repr=False)
+    #: the run the cell is computed for (what a process shares between cells is the run's own)
+    run: str = attrs.field(default="", eq=False, repr=False)
 
     @property
     def id(self) -> str:

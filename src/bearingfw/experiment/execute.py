@@ -16,6 +16,7 @@ the process that started the run.
 from __future__ import annotations
 
 import contextlib
+import copy
 import datetime
 import os
 import platform
@@ -23,6 +24,7 @@ import signal
 import threading
 import time
 import traceback
+import uuid
 import warnings
 
 import attrs
@@ -46,7 +48,7 @@ from bearingfw.motion import get_scale, record_degree, record_pga_h10, record_t_
 
 __all__ = [
     "CellOutcome", "CellSummary", "CellTimeout", "compute_and_store", "compute_cell", "failed_outcome",
-    "forget_shared", "prepare_records", "time_limit", "write_outcome",
+    "forget_shared", "prepare_cells", "time_limit", "write_outcome",
 ]
 
 #: Lines of traceback kept with a failed cell.
@@ -133,22 +135,26 @@ def failed_outcome(job: CellJob, exc: BaseException, wall_time: float = 0.0) -> 
     return CellOutcome(document)
 
 
-def prepare_records(jobs: list[CellJob]) -> list[CellJob]:
-    """The cells ``jobs``, each with its record prepared once for all the cells of its record and
-    intensity (:attr:`CellJob.prepared`): a worker then neither reads nor scales it (nor imports
-    the filters that measure it). A record that cannot be prepared here is left to its cells,
-    which fail with its error as they would have."""
+def prepare_cells(jobs: list[CellJob]) -> list[CellJob]:
+    """The cells ``jobs`` of one run, stamped with the run (:attr:`CellJob.run`), each with its record
+    prepared once for all the cells of its record and intensity (:attr:`CellJob.prepared`): a worker
+    then neither reads nor scales it (nor imports the filters that measure it). The warnings that
+    raised go into each of those cells. A record that cannot be prepared here (an error, or longer
+    than ``[run] cell_timeout``) is left to its cells, which fail as they would have."""
+    run = uuid.uuid4().hex
     prepared: dict = {}
     out = []
     for job in jobs:
         key = (job.record, job.intensity.name)
         if key not in prepared:
             experiment = job.experiment
+            registry = registry_for(experiment.plugins, import_paths(experiment))
             try:
-                prepared[key] = _scaled_record(job, registry_for(experiment.plugins, import_paths(experiment)))
-            except Exception:  # noqa: BLE001 - each cell reads it again and records the failure
+                with time_limit(experiment.run.cell_timeout):
+                    prepared[key] = _recording_warnings(lambda job=job, registry=registry: _scaled_record(job, registry))
+            except (Exception, CellTimeout):  # noqa: BLE001 - each cell reads it again and records the failure
                 prepared[key] = None
-        out.append(attrs.evolve(job, prepared=prepared[key]))
+        out.append(attrs.evolve(job, prepared=prepared[key], run=run))
     return out
 
 
@@ -157,10 +163,14 @@ def _scaled_record(job: CellJob, registry):
     (a (steps, 3) array, or for a spatially varying entry a :class:`~bearingfw.experiment.records.SpatialGround`
     that is the reference group's acceleration as an array) and its measures."""
     if job.prepared is not None:
-        return job.prepared
+        value, caught = job.prepared
+        _warn_again(caught)
+        return value
     experiment = job.experiment
     spec = experiment.record(job.record)
-    loaded = _shared(job, _RECORD_INPUTS, lambda: load_record(experiment, spec, registry))
+    # the record entry by name too: two entries of the same contents name other files
+    inputs = {"entry": job.record, **{k: job.inputs.get(k) for k in ("record", "code", "integration", "plugins")}}
+    loaded = _shared(job, "record", inputs, lambda: load_record(experiment, spec, registry))
     record = scaled_record(loaded, job.intensity, experiment.intensities,
                            experiment.integration.dt_integration, registry,
                            min_peak_ratio=experiment.run.min_peak_ratio)
@@ -310,36 +320,62 @@ def compute_cell(job: CellJob) -> CellOutcome:
 
 
 #: Per process, what the cells of one bearing model (and of one record) share: the model, its system
-#: and dead load (the record as read), so that the intensities of a model computed in one process
-#: build them once (:func:`_shared`). Keyed by the parts of the cells' input digest they are made
-#: from, which hold the contents of every file that goes into them (builders, plugins, records): a
-#: changed input is a new key. Each run also empties it (:func:`forget_shared`).
-_SHARED: dict[str, object] = {}
+#: and dead load, and the record as read, so that the intensities of a model computed in one process
+#: build them once (:func:`_shared`). Keyed by the run (:attr:`CellJob.run`: a worker that outlives a
+#: run, as a Dask cluster's does, starts again at the next) and by the cells' inputs they are made
+#: from. The run's own process also empties it at each run (:func:`forget_shared`).
+_SHARED: dict[str, tuple] = {}
 _SHARED_SIZE = 8
 
 
-def _shared(job: CellJob, parts: tuple[str, ...], make):
-    """``make()``, or what it gave for a cell whose inputs ``parts`` are these (module-level cache)."""
-    key = canonical_json([parts, {name: job.inputs.get(name) for name in parts}])
-    if key in _SHARED:
-        return _SHARED[key]
-    value = make()  # an exception is the cell's failure, and nothing is kept
-    if _SHARED_SIZE > 0:
-        while len(_SHARED) >= _SHARED_SIZE:
-            _SHARED.pop(next(iter(_SHARED)))  # the oldest
-        _SHARED[key] = value
+def _shared(job: CellJob, what: str, inputs: dict, make):
+    """``make()``, or what it gave for a cell of this run with these ``inputs`` (module-level cache).
+    The warnings ``make`` raised are raised again for every cell that uses what it made."""
+    key = canonical_json([what, job.run, inputs])
+    entry = _SHARED.get(key)
+    if entry is None:
+        entry = _recording_warnings(make)  # an exception is the cell's failure, and nothing is kept
+        if _SHARED_SIZE > 0:
+            while len(_SHARED) >= _SHARED_SIZE:
+                _SHARED.pop(next(iter(_SHARED)))  # the oldest
+            _SHARED[key] = entry
+    value, caught = entry
+    _warn_again(caught)
     return value
+
+
+def _recording_warnings(make) -> tuple:
+    """``(make(), the warnings it raised)``; in a thread other than the main one (a Dask worker's) the
+    warnings machinery is the process's, so they go where they would have gone, and none are kept."""
+    if threading.current_thread() is not threading.main_thread():
+        return make(), ()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            value = make()
+        except BaseException as exc:
+            error = exc
+        else:
+            error = None
+    if error is not None:
+        _warn_again(_warning_list(caught))  # a failure keeps the warnings that led to it
+        raise error
+    return value, _warning_list(caught)
+
+
+def _warning_list(caught) -> tuple:
+    return tuple((w.message, w.category, w.filename, w.lineno) for w in caught)
+
+
+def _warn_again(caught) -> None:
+    for message, category, filename, lineno in caught:
+        warnings.warn_explicit(message, category, filename, lineno)
 
 
 def forget_shared() -> None:
     """Empty the per-process cache of models, systems and records (:func:`_shared`); each run starts
     with it empty."""
     _SHARED.clear()
-
-
-#: the inputs a cell's model, system and dead load are made from, and its record
-_MODEL_INPUTS = ("structure", "code", "model", "plugins")
-_RECORD_INPUTS = ("record", "code", "integration", "plugins")
 
 
 def _compute(job: CellJob, document: dict, kept: dict) -> None:
@@ -353,7 +389,13 @@ def _compute(job: CellJob, document: dict, kept: dict) -> None:
         system = as_system(model, registry)
         return model, system, gravity(system)
 
-    model, system, preload = _shared(job, _MODEL_INPUTS, assemble)
+    # every input but the record and the intensity: the cells of one model (the damping, derived from
+    # its modes, changes with a data file its builder reads, which the code digest does not hold)
+    inputs = {k: v for k, v in job.inputs.items() if k not in ("record", "intensity")}
+    model, system, preload = _shared(job, "model", inputs, assemble)
+    # each cell from the committed states as the dead load left them (a law that changes its state
+    # in place must not carry one cell's history into the next)
+    preload = attrs.evolve(preload, law_states=copy.deepcopy(preload.law_states))
     document["laws"] = _laws(model)
     elements = response_elements(experiment.structure, model)
     nodes = deck_nodes(experiment.structure, model)

@@ -41,7 +41,7 @@ from bearingfw.analysis.static import initial_stiffness_error
 from bearingfw.bridges import find_preset
 from bearingfw.experiment.acceptance import SUSPECT
 from bearingfw.experiment.cells import CellJob, plan_cells, recording
-from bearingfw.experiment.execute import forget_shared, prepare_records
+from bearingfw.experiment.execute import forget_shared, prepare_cells
 from bearingfw.experiment.executors import ProcessExecutor, local_workers
 from bearingfw.experiment.findings import Finding, check_findings
 from bearingfw.experiment.matrices import Matrices, collect_matrices, units_table, write_matrices
@@ -386,7 +386,7 @@ def run_experiment(
             todo = sorted(work.todo, key=lambda j: order.get((j.record, j.intensity.name), len(order)))
         try:
             # each record and intensity read and scaled once, here, for all its cells
-            executor.run(prepare_records(todo), store, finished)
+            executor.run(prepare_cells(todo), store, finished)
         except BaseException:
             if early is not None:  # the figure being written is finished (never a part of a file), no more
                 early.stop(wait_for_queued=False)

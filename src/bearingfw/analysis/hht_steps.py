@@ -6,12 +6,13 @@ object, the energy, the bookkeeping of the time loop. At a thousand DOFs that Py
 what the arithmetic does. :func:`advance` makes the same calls, in the same order, for a run of
 consecutive steps of one size, and keeps every step's arrays for the recorders.
 
-It runs when a step needs nothing Python does (:func:`bearingfw.analysis.hht.advance_steps`):
-the fast path, uniform support motion, no law using the velocity, and the laws either absent,
-linear (folded into the factorised matrix) or compiled (:class:`~bearingfw.analysis.hht.CompiledLaws`).
-It stops at the first step it cannot finish (a law declines, a non-finite iterate, no
-convergence): that step is then solved by :func:`~bearingfw.analysis.hht.step`, which reports
-failures and halves the step as it always has.
+It runs when a step needs nothing Python does (:func:`bearingfw.analysis.hht.steps_plan`; the
+time loop calls it through :func:`bearingfw.analysis.hht.advance_steps`): the fast path, uniform
+support motion, no law using the velocity, and the laws either absent, linear (folded into the
+factorised matrix) or compiled (:class:`~bearingfw.analysis.hht.CompiledLaws`). It stops at the
+first step it cannot finish (a law declines, a non-finite iterate, no convergence): that step is
+then solved by :func:`~bearingfw.analysis.hht.step`, which reports failures and halves the step
+as it always has (as it does any step of a run that raised).
 
 Modes: :data:`NO_LAWS` (no bearing directions), :data:`FOLDED` (linear laws in ``A``: the law
 displacements and forces follow from ``x``), :data:`NEWTON` (the compiled Newton iteration,

@@ -92,9 +92,7 @@ def advance(
         else:
             x = x_lin  # commit copies it; the buffer is next written at the next step
             m = d0.shape[0]
-            f, d, N = F[j], D[j], NN[j]
-            f[:] = f_n
-            d[:] = d_n
+            f, d, N = F[j], D[j], NN[j]  # every row written below (none without laws: m = 0)
             for r in range(m + N0.shape[0]):
                 total = 0.0
                 for q in range(bv_indptr[r], bv_indptr[r + 1]):

@@ -417,6 +417,24 @@ class Excitation:
         vel = self.velocity[i] + self.dt * (w * a0 + 0.5 * w * w * (a1 - a0))
         return acc, vel
 
+    def grounds(self, times) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`ground` at each of ``times``, one row each, the same values, as array operations."""
+        times = np.asarray(times, dtype=float)
+        if self.steps == 1:
+            return np.tile(self.acceleration[0], (times.size, 1)), np.tile(self.velocity[0], (times.size, 1))
+        i, w = self._wheres(times)
+        a0, a1 = self.acceleration[i], self.acceleration[i + 1]
+        at_sample = w == 0.0
+        acc = np.where(at_sample, a0, (1.0 - w) * a0 + w * a1)
+        vel = np.where(at_sample, self.velocity[i], self.velocity[i] + self.dt * (w * a0 + 0.5 * w * w * (a1 - a0)))
+        return acc, vel
+
+    def _wheres(self, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`_where` of each of ``times`` (more than one sample): indices, and weights as a column."""
+        tau = np.minimum(np.maximum(times / self.dt, 0.0), self.steps - 1.0)
+        i = np.minimum(tau.astype(np.int64), self.steps - 2)
+        return i, (tau - i)[:, None]
+
     def support_differences(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
         """The differential support displacement, velocity and acceleration (3 per differing group) at
         ``t``, None for uniform motion. Integrated differences are exact for the piecewise-linear
@@ -460,10 +478,7 @@ class Excitation:
         varying = self.nodal_full is not None and self.nodal_full.ndim > 1
         if self.differential is not None or varying or self.steps == 1:
             return np.array([self.load(t) for t in times.tolist()]).reshape(times.size, self.P.shape[0])
-        # _where and _sample, element by element as they compute one instant
-        tau = np.minimum(np.maximum(times / self.dt, 0.0), self.steps - 1.0)
-        i = np.minimum(tau.astype(np.int64), self.steps - 2)
-        w = (tau - i)[:, None]
+        i, w = self._wheres(times)  # _sample, element by element as it computes one instant
         table = self.acceleration
         a = np.where(w == 0.0, table[i], (1.0 - w) * table[i] + w * table[i + 1])
         F = self._inertia(a)

@@ -126,7 +126,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import attrs
 import numpy as np
@@ -1364,13 +1364,95 @@ def steps_plan(p: Problem, op: Operator) -> StepsPlan | None:
     return StepsPlan(p, op, mode, operands, block)
 
 
-def advance_steps(plan: StepsPlan, s: State, times, loads: np.ndarray) -> tuple[list[State], np.ndarray, np.ndarray]:
+@attrs.frozen(eq=False)
+class Steps(Sequence):
+    """What a run of compiled steps reached (:func:`advance_steps`), one row per finished step: the
+    arrays :func:`step` would have put into each :class:`State`, side by side. As a sequence, the
+    steps' states (each made when read, :meth:`state`); the recorders read the arrays directly."""
+
+    plan: StepsPlan
+    times: np.ndarray  # (k,) the steps' ends
+    loads: np.ndarray  # (k, n) the dynamic loads
+    out: np.ndarray  # (k, ROWS, n): x, v, a, the products (6 rows), B^T phi, C v, G, rho, ae
+    f: np.ndarray  # (k, m) law forces
+    d: np.ndarray  # (k, m) law displacements
+    N: np.ndarray  # (k, springs) normal forces
+    packed: np.ndarray  # (k, ...) the compiled laws' packed states (NEWTON)
+    energy: np.ndarray  # (k, 7) kinetic, strain, damping, bearings, input, (unused), numerical
+    iterations: np.ndarray  # (k,) Newton iterations
+    backtracks: np.ndarray  # (k,) line-search halvings
+    start_law_states: tuple  # the law states where the laws are not iterated (folded, none)
+    last: tuple  # (tangent, ev, lu, piv, phi) of the last step's iteration (NEWTON)
+
+    @property
+    def done(self) -> int:
+        return self.times.size
+
+    def __len__(self) -> int:
+        return self.done
+
+    def __getitem__(self, j):
+        if isinstance(j, slice):
+            return [self.state(k) for k in range(self.done)[j]]
+        return self.state(range(self.done)[j])
+
+    @property
+    def x(self) -> np.ndarray:
+        return self.out[:, 0]
+
+    @property
+    def v(self) -> np.ndarray:
+        return self.out[:, 1]
+
+    @property
+    def a(self) -> np.ndarray:
+        return self.out[:, 2]
+
+    @property
+    def ae(self) -> np.ndarray:
+        return self.out[:, 13]
+
+    def law_states(self, j: int) -> tuple:
+        """The law states after step ``j``."""
+        if self.plan.mode == _steps().NEWTON:
+            return self.plan.p.compiled.unpack(self.packed[j])
+        return self.start_law_states
+
+    def energy_rows(self) -> list[tuple[float, ...]]:
+        """:meth:`Energy.row` of every step."""
+        e = self.energy
+        imbalance = e[:, 4] - (e[:, 0] + e[:, 1] + e[:, 2] + e[:, 3])  # Energy.imbalance, in its order
+        return list(zip(*(e[:, c].tolist() for c in range(5)), imbalance.tolist(), e[:, 6].tolist(), strict=True))
+
+    def state(self, j: int) -> State:
+        """Step ``j``'s :class:`State`, with its own arrays (a recorder that keeps every k-th state must
+        not keep the whole run of steps alive); the last step's carries its iteration's factors for
+        the next step's predictor."""
+        p, n = self.plan.p, self.out.shape[2]
+        out = self.out[j].copy()
+        xva = out[0:3]
+        products = out[3:9].reshape(2, 3, n)
+        law_states = self.law_states(j)
+        row = self.energy[j]
+        energy = Energy(row[0], row[1], row[2], row[3], row[4], row[6])
+        linearised = (None, None, None)
+        if j == self.done - 1 and self.plan.mode == _steps().NEWTON:  # the next step's predictor takes these
+            tangent, ev, lu, piv, phi = self.last
+            linearised = _compiled_linearised(p, self.plan.op, tangent, ev, self.packed[j], law_states, lu, piv, phi)
+        return State(
+            float(self.times[j]), xva[0], xva[1], xva[2], self.f[j].copy(), self.d[j].copy(), self.N[j].copy(),
+            law_states, self.loads[j].copy(), products[0, 1], products[1, 1], energy, out[10], products[0, 2], out[9],
+            out[11], out[12], out[13], linearised[0], products, linearised[1], xva, linearised[2],
+        )  # fmt: skip
+
+
+def advance_steps(plan: StepsPlan, s: State, times, loads: np.ndarray) -> tuple[Steps, np.ndarray, np.ndarray]:
     """Steps of size ``plan.op.h`` from ``s`` to each of ``times`` (consecutive), under the dynamic
     loads ``loads`` (one row per step), in one compiled call: exactly the arithmetic of :func:`step`.
 
-    Returns the states reached, with the Newton iterations and halvings of each. Fewer states than
-    times: the next step could not be finished there (a law declined, a non-finite iterate, no
-    convergence); :func:`step` must solve it (and report why, or halve it)."""
+    Returns the steps reached (the states, :class:`Steps`), with the Newton iterations and halvings
+    of each. Fewer steps than times: the next step could not be finished there (a law declined, a
+    non-finite iterate, no convergence); :func:`step` must solve it (and report why, or halve it)."""
     p, op, steps = plan.p, plan.op, _steps()
     n, m, k = s.x.size, p.m, len(times)
     xva = s.xva if s.xva is not None else np.stack((s.x, s.v, s.a))
@@ -1390,27 +1472,11 @@ def advance_steps(plan: StepsPlan, s: State, times, loads: np.ndarray) -> tuple[
         *plan.operands, op.h, start, kernel_array(s.load), energy_n, kernel_array(s.f), kernel_array(s.d),
         kernel_array(s.N), *carried, kernel_array(loads), OUT, F, D, NN, S, ENERGY, iterations, backtracks,
     )  # fmt: skip
-    states = []
-    for j in range(done):
-        # each state its own arrays (as a Python step's): a recorder that keeps every k-th state must
-        # not keep the whole run of steps alive
-        out = OUT[j].copy()
-        xva = out[0:3]
-        products = out[3:9].reshape(2, 3, n)
-        law_states = p.compiled.unpack(S[j]) if plan.mode == steps.NEWTON else s.law_states
-        row = ENERGY[j]
-        energy = Energy(row[0], row[1], row[2], row[3], row[4], row[6])
-        linearised = (None, None, None)
-        if j == done - 1 and plan.mode == steps.NEWTON:  # the next step's predictor takes these
-            linearised = _compiled_linearised(p, op, tangent, ev, S[j], law_states, lu, piv, phi)[:3]
-        states.append(
-            State(
-                times[j], xva[0], xva[1], xva[2], F[j], D[j], NN[j], law_states, loads[j], products[0, 1],
-                products[1, 1], energy, out[10], products[0, 2], out[9], out[11], out[12], out[13], linearised[0],
-                products, linearised[1], xva, linearised[2],
-            )
-        )  # fmt: skip
-    return states, iterations[:done], backtracks[:done]
+    steps = Steps(
+        plan, np.asarray(times, dtype=float)[:done], loads[:done], OUT[:done], F[:done], D[:done], NN[:done],
+        S[:done], ENERGY[:done], iterations[:done], backtracks[:done], s.law_states, (tangent, ev, lu, piv, phi),
+    )  # fmt: skip
+    return steps, steps.iterations, steps.backtracks
 
 
 def _steps():

@@ -56,6 +56,8 @@ run have distinct names, so keys never clash; an :class:`ElementStress` refuses 
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import attrs
 import numpy as np
 import scipy.sparse as sp
@@ -76,6 +78,7 @@ __all__ = [
     "Context",
     "MultiplierMap",
     "Snapshot",
+    "Samples",
     "RESERVED_NAMES",
 ]
 
@@ -158,6 +161,108 @@ class Snapshot:
     nodal: np.ndarray | None  # full dynamic nodal loads
     d: np.ndarray | None = None
     a_equilibrium: np.ndarray | None = None
+
+
+class Samples:
+    """Instants side by side, as probes evaluate them: :class:`Snapshot`'s fields with one row per
+    instant (``x`` (k, n), ``ground_acceleration`` (k, 3), ...; ``nodal``, ``d`` and
+    ``a_equilibrium`` None where an instant lacks them), and ``law_states``, a sequence with one
+    entry per instant, read only by the probes that need them (a run of compiled steps unpacks
+    them on demand).
+
+    Made from arrays (a run of steps: ``Samples(law_states, t=..., x=..., ...)``, every field
+    given), or from ``parts``, snapshots and other samples in time order (:meth:`of`), whose
+    fields are joined when a probe first reads them."""
+
+    ARRAYS = ("t", "x", "v", "a", "f", "ground_acceleration", "ground_velocity")
+    OPTIONAL = ("nodal", "d", "a_equilibrium")
+
+    def __init__(self, law_states: Sequence, parts: Sequence | None = None, **arrays):
+        if parts is None and set(arrays) != {*self.ARRAYS, *self.OPTIONAL}:
+            raise TypeError(f"Samples: give every one of {self.ARRAYS + self.OPTIONAL}, or parts")
+        self.law_states = law_states
+        self.parts = parts
+        self.__dict__.update(arrays)
+
+    @classmethod
+    def of(cls, parts: Sequence) -> Samples:
+        """The instants of ``parts`` (:class:`Snapshot` or :class:`Samples`, in time order); one
+        :class:`Samples` is itself."""
+        if len(parts) == 1 and isinstance(parts[0], Samples):
+            return parts[0]
+        states = [(p.law_states,) if isinstance(p, Snapshot) else p.law_states for p in parts]
+        return cls(_Picked.joined(states), list(parts))
+
+    def __getattr__(self, field: str):
+        # only for what is not set yet: a field of the parts, joined at its first reading
+        if field not in self.ARRAYS + self.OPTIONAL or self.__dict__.get("parts") is None:
+            raise AttributeError(field)
+        values = [getattr(p, field) for p in self.parts]
+        if field in self.OPTIONAL and any(v is None for v in values):
+            joined = None
+        elif all(isinstance(p, Snapshot) for p in self.parts):
+            joined = np.array(values)
+        else:
+            joined = np.concatenate([np.asarray(v)[None] if isinstance(p, Snapshot) else v
+                                     for v, p in zip(values, self.parts, strict=True)])  # fmt: skip
+        self.__dict__[field] = joined
+        return joined
+
+    def __len__(self) -> int:
+        return len(self.law_states)
+
+    def each(self) -> list[Snapshot]:
+        """The instants one by one."""
+        if self.parts is not None:
+            return [s for p in self.parts for s in ((p,) if isinstance(p, Snapshot) else p.each())]
+        return [self.snapshot(j) for j in range(len(self))]
+
+    def snapshot(self, j: int) -> Snapshot:
+        """Instant ``j``."""
+        if self.parts is not None:
+            return self.each()[j]
+
+        def row(field):
+            values = getattr(self, field)
+            return None if values is None else values[j]
+
+        return Snapshot(float(self.t[j]), *map(row, ("x", "v", "a", "f")), self.law_states[j],
+                        *map(row, ("ground_acceleration", "ground_velocity", *self.OPTIONAL)))  # fmt: skip
+
+    def take(self, rows: slice | np.ndarray) -> Samples:
+        """The instants ``rows`` (a slice, or indices in time order)."""
+        index = np.arange(len(self))[rows]
+        if self.parts is not None:
+            everyone = self.each()
+            return Samples.of([everyone[j] for j in index.tolist()])
+        arrays = {f: getattr(self, f) for f in self.ARRAYS + self.OPTIONAL}
+        return Samples(_Picked(self.law_states, index), **{f: None if v is None else v[rows] for f, v in arrays.items()})
+
+
+class _Picked(Sequence):
+    """Items of sequences, fetched when read (a run's law states are unpacked on demand): item ``j``
+    is ``items[owner[j]][rows[j]]``."""
+
+    def __init__(self, items: Sequence, rows: np.ndarray, owner: np.ndarray | None = None):
+        self.items, self.rows = ([items], rows) if owner is None else (items, rows)
+        self.owner = np.zeros(rows.size, dtype=int) if owner is None else owner
+
+    @classmethod
+    def joined(cls, sequences: Sequence[Sequence]) -> _Picked:
+        """The items of ``sequences``, one after the other."""
+        sizes = [len(s) for s in sequences]
+        owner = np.repeat(np.arange(len(sequences)), sizes)
+        rows = np.concatenate([np.arange(n) for n in sizes]) if sizes else np.zeros(0, dtype=int)
+        return cls(list(sequences), rows, owner)
+
+    def __len__(self) -> int:
+        return self.rows.size
+
+    def __getitem__(self, j):
+        j = range(self.rows.size)[j]  # an IndexError past the end (iteration stops there)
+        if isinstance(j, range):
+            return [self[k] for k in j]
+        return self.items[int(self.owner[j])][int(self.rows[j])]
 
 
 @attrs.frozen(eq=False)
@@ -278,12 +383,16 @@ class Context:
 class _Probe:
     """Collects one recorder's samples; ``finish`` returns its arrays and description.
 
-    Samples are evaluated in chunks of :attr:`CHUNK` instants: a product of a recorder's matrix with
-    the chunk's states side by side costs about what one product with one state does, so the per-step
-    cost of recording is a list append. A probe gives ``_sample_many`` (a chunk of snapshots, in time
-    order) or ``_sample`` (one snapshot; the default ``_sample_many`` loops over it)."""
+    Samples are evaluated in chunks of :attr:`CHUNK` instants side by side (:class:`Samples`): a
+    product of a recorder's matrix with a chunk's states costs about what one product with one
+    state does, so the per-step cost of recording is a list append (:meth:`sample`), or nothing
+    per step where a run of steps comes at once (:meth:`sample_many`). The chunks are the same
+    however the instants come (one by one or in runs): a dense product's rounding can depend on
+    the number of columns, and a run must not depend on how its steps were taken. A probe gives
+    ``_sample_many`` (a chunk, in time order) or ``_sample`` (one snapshot; the default
+    ``_sample_many`` loops over it)."""
 
-    #: snapshots a probe holds before it evaluates them together (they keep the states alive)
+    #: instants a probe holds before it evaluates them together (they keep the states alive)
     CHUNK = 64
 
     def __init__(self, spec):
@@ -291,22 +400,36 @@ class _Probe:
         self.label = spec.label
         self.every = spec.every
         self.times: list[float] = []
-        self._pending: list[Snapshot] = []
+        self._pending: list = []  # snapshots and samples, in time order
+        self._held = 0  # instants in _pending
 
     def sample(self, s: Snapshot) -> None:
         self.times.append(s.t)
         self._pending.append(s)
-        if len(self._pending) >= self.CHUNK:
+        self._held += 1
+        if self._held >= self.CHUNK:
             self.flush()
 
-    def flush(self) -> None:
-        """Evaluate the snapshots held so far."""
-        if self._pending:
-            pending, self._pending = self._pending, []
-            self._sample_many(pending)
+    def sample_many(self, samples: Samples) -> None:
+        """Record the instants ``samples`` (in time order, after those held)."""
+        self.times.extend(samples.t.tolist())
+        start, k = 0, len(samples)
+        while start < k:
+            take = min(self.CHUNK - self._held, k - start)
+            self._pending.append(samples if take == k else samples.take(slice(start, start + take)))
+            self._held += take
+            start += take
+            if self._held >= self.CHUNK:
+                self.flush()
 
-    def _sample_many(self, snapshots: list[Snapshot]) -> None:
-        for s in snapshots:
+    def flush(self) -> None:
+        """Evaluate the instants held so far."""
+        if self._pending:
+            pending, self._pending, self._held = self._pending, [], 0
+            self._sample_many(Samples.of(pending))
+
+    def _sample_many(self, samples: Samples) -> None:
+        for s in samples.each():
             self._sample(s)
 
     def finish(self) -> tuple[dict[str, np.ndarray], dict]:
@@ -338,25 +461,19 @@ def _section_force_map(ctx: Context, names: tuple[str, ...]) -> tuple[sp.csr_mat
     return (L_full @ sys.T).tocsr(), dead, None if dif is None else np.asarray(L_full @ dif.psi)
 
 
-def _columns(snapshots: list[Snapshot], field: str) -> np.ndarray:
-    """(n, k): the snapshots' ``field`` side by side, one column per instant (a transposed view:
-    stacking rows costs a quarter of writing columns)."""
-    return np.array([getattr(s, field) for s in snapshots]).T
-
-
-def _support_columns(ctx: Context, snapshots: list[Snapshot]) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+def _support_columns(ctx: Context, samples: Samples) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """The differential support displacement, velocity and acceleration (3 per differing group, instants)
-    at the snapshots, one column each; None for uniform motion."""
+    at the instants, one column each; None for uniform motion."""
     if ctx.excitation.differential is None:
         return None
-    at = [ctx.excitation.support_differences(s.t) for s in snapshots]
+    at = [ctx.excitation.support_differences(t) for t in samples.t.tolist()]
     return tuple(np.array([d[k] for d in at]).T for k in range(3))
 
 
-def _rows_with_support(rows: list, value: np.ndarray, quasi: np.ndarray | None, ctx: Context, snapshots) -> None:
+def _rows_with_support(rows: list, value: np.ndarray, quasi: np.ndarray | None, ctx: Context, samples) -> None:
     """Append the columns of ``value`` (n, instants), plus the quasi-static share, as rows."""
     if quasi is not None:
-        value = value + quasi @ _support_columns(ctx, snapshots)[0]
+        value = value + quasi @ _support_columns(ctx, samples)[0]
     rows.extend(value.T)
 
 
@@ -405,8 +522,8 @@ class _StressProbe(_Probe):
         self.ctx = ctx
         self.rows: list[np.ndarray] = []
 
-    def _sample_many(self, snapshots: list[Snapshot]) -> None:
-        _rows_with_support(self.rows, self.L @ _columns(snapshots, "x"), self.L_psi, self.ctx, snapshots)
+    def _sample_many(self, samples: Samples) -> None:
+        _rows_with_support(self.rows, self.L @ samples.x.T, self.L_psi, self.ctx, samples)
 
     def _finish(self):
         spec = self.spec
@@ -445,8 +562,8 @@ class _ForcesProbe(_Probe):
         self.ctx = ctx
         self.rows: list[np.ndarray] = []
 
-    def _sample_many(self, snapshots: list[Snapshot]) -> None:
-        _rows_with_support(self.rows, self.L @ _columns(snapshots, "x"), self.L_psi, self.ctx, snapshots)
+    def _sample_many(self, samples: Samples) -> None:
+        _rows_with_support(self.rows, self.L @ samples.x.T, self.L_psi, self.ctx, samples)
 
     def _finish(self):
         n = len(self.spec.elements)
@@ -568,22 +685,22 @@ class _ConnectorProbe(_Probe):
             gap[self.gap_slots] = d[self.gap_rows]  # the total d_z: > 0 open
             self.gaps.append(gap)
 
-    def _sample_many(self, snapshots: list[Snapshot]) -> None:
-        if any(s.d is None or s.a_equilibrium is None for s in snapshots):
-            super()._sample_many(snapshots)  # a state without its law displacements: one at a time
+    def _sample_many(self, samples: Samples) -> None:
+        if samples.d is None or samples.a_equilibrium is None:
+            super()._sample_many(samples)  # a state without its law displacements: one at a time
             return
         ctx = self.ctx
-        k = len(snapshots)
-        x = _columns(snapshots, "x")
-        f = _columns(snapshots, "f")
-        d = _columns(snapshots, "d")
-        support = _support_columns(ctx, snapshots)
+        k = len(samples)
+        x = samples.x.T
+        f = samples.f.T
+        d = samples.d.T
+        support = _support_columns(ctx, samples)
         lam = np.tile(ctx.preload.multipliers, (k, 1))
         if self.multipliers is not None:
-            nodal = None if snapshots[0].nodal is None else _columns(snapshots, "nodal")
+            nodal = None if samples.nodal is None else samples.nodal.T
             lam[:, self.multipliers.rows] += self.multipliers.combine(
-                x, _columns(snapshots, "v"), _columns(snapshots, "a_equilibrium"), _columns(snapshots, "ground_acceleration"),
-                f, nodal, ctx.a0, ctx.a1, ctx.preload.law_forces, support,
+                x, samples.v.T, samples.a_equilibrium.T, samples.ground_acceleration.T, f, nodal, ctx.a0, ctx.a1,
+                ctx.preload.law_forces, support,
             ).T
         if self.springs is not None:
             shortening = self.springs @ x if support is None else self.springs @ x + self.springs_psi @ support[0]
@@ -598,9 +715,10 @@ class _ConnectorProbe(_Probe):
         law_disp[:, self.law_slots] = d[self.law_rows].T
         self.law_disp.extend(law_disp.reshape(k, -1, 3))
         slip = np.full((k, 3 * self.index.size), np.nan)
-        for gi, slip_of, members, slot in self.slips:
-            for row, s in zip(slip, snapshots, strict=True):
-                row[slot] = np.asarray(slip_of(s.law_states[gi]), dtype=float)[members].reshape(-1)
+        if self.slips:
+            for row, states in zip(slip, samples.law_states, strict=True):
+                for gi, slip_of, members, slot in self.slips:
+                    row[slot] = np.asarray(slip_of(states[gi]), dtype=float)[members].reshape(-1)
         self.slip.extend(slip.reshape(k, -1, 3))
         if self.gap_rows.size:
             gap = np.full((k, self.index.size), np.nan)
@@ -792,17 +910,17 @@ class _NodalProbe(_Probe):
         self.ctx = ctx
         self.rows: list[np.ndarray] = []
 
-    def _sample_many(self, snapshots: list[Snapshot]) -> None:
+    def _sample_many(self, samples: Samples) -> None:
         quantity = self.spec.quantity
-        value = self.T @ _columns(snapshots, {"displacement": "x", "velocity": "v", "acceleration": "a"}[quantity])
+        value = self.T @ getattr(samples, {"displacement": "x", "velocity": "v", "acceleration": "a"}[quantity]).T
         if self.offset is not None:
             value = value + self.offset[:, None]
         if self.R is not None:
-            value = value + self.R @ _columns(
-                snapshots, "ground_velocity" if quantity == "velocity" else "ground_acceleration"
-            )
+            value = value + self.R @ getattr(
+                samples, "ground_velocity" if quantity == "velocity" else "ground_acceleration"
+            ).T
         if self.psi is not None:  # the quasi-static motion of the differential support motion
-            value = value + self.psi @ _support_columns(self.ctx, snapshots)[QUANTITIES.index(quantity)]
+            value = value + self.psi @ _support_columns(self.ctx, samples)[QUANTITIES.index(quantity)]
         self.rows.extend(value.T)
 
     def _finish(self):

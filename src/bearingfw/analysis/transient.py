@@ -71,7 +71,7 @@ from bearingfw.analysis import hht
 from bearingfw.analysis.damping import Rayleigh
 from bearingfw.analysis.excitation import Excitation, build_excitation
 from bearingfw.analysis.history import TransientResult, energy_table
-from bearingfw.analysis.recorders import RESERVED_NAMES, Context, Snapshot
+from bearingfw.analysis.recorders import RESERVED_NAMES, Context, Samples, Snapshot
 from bearingfw.analysis.static import StaticResult, factorize, gravity
 from bearingfw.model import Model, ModelError, System, as_system
 from bearingfw.parameters import ParameterError, choice, integer_parameter, parameter
@@ -332,25 +332,85 @@ class _Run:
                 loads = self.exc.loads(times)
                 self.attempt = times[0]
                 try:
-                    states, iterations, backtracks = hht.advance_steps(plan, state, times, loads)
+                    steps = hht.advance_steps(plan, state, times, loads)[0]
                 except Exception:  # noqa: BLE001 - the Python step meets it again, at its own step, and reports it
-                    states, iterations, backtracks = [], np.zeros(0, dtype=int), np.zeros(0, dtype=int)
-                for new, its, back in zip(states, iterations.tolist(), backtracks.tolist(), strict=True):
-                    self.attempt = new.t
-                    self.committed(state, new, its, back, h)
-                    state = new
-                    n += 1
-                    self.after_step(state, n, total)
-                if len(states) == len(times):
+                    steps = None
+                done = 0 if steps is None else len(steps)
+                if done:
+                    state = self.take_steps(state, steps, n, total)
+                    n += done
+                if done == len(times):
                     length = min(plan.block, 2 * length)
                     continue
                 # where a law keeps declining, a call per step costs little: ask for one step, then more
-                length = length if states else 1
+                length = length if done else 1
             # a step the compiled run could not finish (or every step without a plan): Python, with halvings
             state = self.advance(state, n * h, h, 0)
             n += 1
             self.after_step(state, n, total)
         return state
+
+    def take_steps(self, s: hht.State, steps: hht.Steps, n: int, total: int) -> hht.State:
+        """Commit, record and report the steps ``n + 1, n + 2, ...`` of a compiled run from ``s``, as
+        :meth:`committed` and :meth:`after_step` do each step; return the last state.
+
+        Probes with ``sample_many`` read the run's arrays side by side, once; the others, and the
+        progress callback, see each step in turn. Where one of those raises at a step, the run ends
+        there, as the step-by-step loop would: the steps after it are not taken."""
+        singles = [p for p in self.probes if not _takes_samples(p)]
+        samples = self._samples(steps)
+        done, failure = steps.done, None
+        if singles or self.progress is not None:
+            for j in range(done):
+                k = n + 1 + j
+                try:
+                    due = [p for p in singles if k % p.every == 0]
+                    if due:
+                        snap = samples.snapshot(j)
+                        for probe in due:
+                            probe.sample(snap)
+                    if self.progress is not None and (100 * k) // total > (100 * (k - 1)) // total:
+                        self.stats["steps"] = k
+                        self.progress(k / total)  # each whole percent once
+                except Exception as exc:  # noqa: BLE001 - raised again below, once the steps up to it are kept
+                    done, failure = j + 1, exc
+                    break
+        stats = self.stats
+        stats["substeps"] += done
+        stats["iterations"] += int(steps.iterations[:done].sum())
+        stats["backtracks"] += int(steps.backtracks[:done].sum())
+        stats["max_iterations"] = max(stats["max_iterations"], int(steps.iterations[:done].max()))
+        stats["steps"] = n + done
+        if self.uplift is not None:
+            before = s.d
+            for after in steps.d[:done]:
+                self.uplift.advance(before, after, steps.plan.op.h)
+                before = after
+        self.attempt = float(steps.times[done - 1])
+        self.last = steps.state(done - 1)
+        times = steps.times[:done].tolist()
+        self.times.extend(times)
+        self.energy_times.extend(times)
+        self.energy_rows.extend(steps.energy_rows()[:done])
+        numbers = np.arange(n + 1, n + 1 + done)
+        for probe in self.probes:
+            if probe not in singles:
+                due = np.flatnonzero(numbers % probe.every == 0)
+                if due.size:
+                    probe.sample_many(samples if due.size == steps.done else samples.take(due))
+        if failure is not None:
+            raise failure
+        return self.last
+
+    def _samples(self, steps: hht.Steps) -> Samples:
+        """The instants of a compiled run as the recorders read them."""
+        ground = self.exc.grounds(steps.times)
+        nodal = [self.exc.nodal(t) for t in steps.times.tolist()]
+        return Samples(
+            _LawStates(steps), t=steps.times, x=steps.x, v=steps.v, a=steps.a, f=steps.f,
+            ground_acceleration=ground[0], ground_velocity=ground[1],
+            nodal=None if nodal[0] is None else np.array(nodal), d=steps.d, a_equilibrium=steps.ae,
+        )  # fmt: skip
 
     def after_step(self, state: hht.State, n: int, total: int) -> None:
         """Record step ``n`` (of ``total``) and report progress."""
@@ -358,6 +418,25 @@ class _Run:
         self.record(state, n)
         if self.progress is not None and (100 * n) // total > (100 * (n - 1)) // total:
             self.progress(n / total)  # each whole percent once
+
+
+def _takes_samples(probe) -> bool:
+    """Whether ``probe`` takes a run of instants at once: it has ``sample_many`` and its ``sample`` is
+    its class's (one set on the instance, e.g. a wrapper, must see every instant)."""
+    return hasattr(type(probe), "sample_many") and "sample" not in vars(probe)
+
+
+class _LawStates(Sequence):
+    """The law states of each step of a compiled run, unpacked when read (:meth:`hht.Steps.law_states`)."""
+
+    def __init__(self, steps: hht.Steps):
+        self.steps = steps
+
+    def __len__(self) -> int:
+        return self.steps.done
+
+    def __getitem__(self, j: int) -> tuple:
+        return self.steps.law_states(range(self.steps.done)[j])  # an IndexError past the end
 
 
 class _Failed(Exception):

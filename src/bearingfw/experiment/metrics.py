@@ -244,6 +244,9 @@ class _Idle:
     def sample(self, snapshot) -> None:
         self.times.append(snapshot.t)
 
+    def sample_many(self, samples) -> None:
+        self.times.extend(samples.t.tolist())
+
     def finish(self) -> tuple[dict, dict]:
         return {}, {"kind": "support response", "recorded": False, "why": "uniform ground motion"}
 

@@ -33,6 +33,9 @@ FORMATS = ("png", "svg")
 #: The formats a figure can be written in (``[figures] formats`` of an experiment).
 FIGURE_FORMATS = ("png", "svg", "pdf")
 
+#: savefig's options per format: PNG at zlib's level 1 (the pixels are the same; the file is about
+#: 13 % larger and written in half the time of the default level 6)
+_OPTIONS = {"png": {"pil_kwargs": {"compress_level": 1}}}
 # The temporary's name, as the results store writes and cleans them: .partial-<name>.<host>-<pid>.<12 hex>
 _TEMPORARY = ".partial-"
 _HOST = re.sub(r"[^A-Za-z0-9]+", "_", platform.node() or "localhost")
@@ -103,13 +106,13 @@ def save(figure: Figure, directory, stem: str, formats: Sequence[str] = FORMATS,
         path = folder / f"{stem}.{suffix}"
         if path.exists() and not path.is_file():  # a device or a pipe (e.g. a link to one): written in place
             with open(path, "wb") as handle:
-                figure.savefig(handle, format=suffix, dpi=dpi)
+                figure.savefig(handle, format=suffix, dpi=dpi, **_OPTIONS.get(suffix, {}))
             paths.append(path)
             continue
         temporary = folder / f"{_TEMPORARY}{path.name}.{_HOST}-{os.getpid()}.{uuid.uuid4().hex[:12]}"
         try:
             with open(temporary, "wb") as handle:
-                figure.savefig(handle, format=suffix, dpi=dpi)
+                figure.savefig(handle, format=suffix, dpi=dpi, **_OPTIONS.get(suffix, {}))
             os.replace(temporary, path)
         except BaseException as exc:  # interrupted or failed: no partial file, no temporary
             temporary.unlink(missing_ok=True)

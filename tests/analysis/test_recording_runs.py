@@ -186,3 +186,25 @@ def test_the_ground_motion_of_a_run_of_instants_is_that_of_each(deck, steps):
         a1, v1 = exc.ground(t)
         assert np.array_equal(a, a1) and np.array_equal(v, v1), t
     assert np.abs(vel).max() > 0
+
+
+def test_the_section_force_map_is_read_once_per_system(deck, monkeypatch):
+    """The cells of an experiment share a system: the map from displacements to section forces is
+    read off the kernel (one call per DOF) once for it, not once per run; a run on another system
+    (another model) reads its own."""
+    from bearingfw.analysis import recorders
+
+    _, _, ag = deck
+    system = build_system(deck_model("regularized-coulomb", COULOMB))
+    pre = gravity(system)
+    reads = []
+    real = recorders._read_force_map
+    monkeypatch.setattr(recorders, "_read_force_map", lambda sys, names: reads.append(names) or real(sys, names))
+    names = [e.name for e in system.model.elements][:3]
+    runs = [solve_transient(system, ag[:41], DT, preload=pre, recorders=[ElementForces(names, name="f")])
+            for _ in range(2)]
+    assert reads == [tuple(names)]
+    assert np.array_equal(runs[0]["f"], runs[1]["f"]) and np.abs(runs[0]["f"]).max() > 0
+    other = build_system(deck_model("regularized-coulomb", COULOMB))
+    fresh = solve_transient(other, ag[:41], DT, preload=gravity(other), recorders=[ElementForces(names, name="f")])
+    assert len(reads) == 2 and np.array_equal(fresh["f"], runs[0]["f"])

@@ -48,7 +48,6 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-from scipy.spatial import cKDTree
 
 from bearingfw.analysis.static import (
     BEARINGS,
@@ -187,6 +186,8 @@ def _mirror_partners(coords: np.ndarray, axis_y: float) -> np.ndarray:
     mirrored[:, 1] = 2 * axis_y - coords[:, 1]
     size = float(np.linalg.norm(coords.max(axis=0) - coords.min(axis=0)))
     tol = 1e-6 * size + 1e-9
+    from scipy.spatial import cKDTree  # here: scipy.spatial's import costs 0.2 s in every process that never pairs nodes
+
     dist, idx = cKDTree(coords).query(mirrored, distance_upper_bound=tol)
     own = np.arange(len(coords))
     return np.where(np.isfinite(dist), idx, own)

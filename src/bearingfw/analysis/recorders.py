@@ -56,6 +56,7 @@ run have distinct names, so keys never clash; an :class:`ElementStress` refuses 
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Sequence
 
 import attrs
@@ -82,6 +83,9 @@ __all__ = [
     "RESERVED_NAMES",
 ]
 
+#: Instants a probe holds before it evaluates them together (they keep the states alive), counted
+#: from the run's start: a chunk ends after every 64th sample (step 63, 127, ... when every step is kept).
+CHUNK = 64
 #: Names a recorder may not take (they are keys of the result file).
 RESERVED_NAMES = ("time", "energy", "meta")
 QUANTITIES = ("displacement", "velocity", "acceleration")
@@ -271,17 +275,18 @@ class MultiplierMap:
 
     They are rows of ``(C C^T)^-1 C r`` with ``r`` the residual of :meth:`Context.full_residual`,
     which is linear in ``(a_equilibrium + a0 v, x + a1 v, ground acceleration, f - f_0, nodal)``.
-    Folding ``(C C^T)^-1`` (those rows only), ``C``, ``M``, ``K`` and ``T`` into one small dense
-    matrix per term once makes a sample a few products with ``len(rows)`` rows, instead of
-    full-DOF sparse products and a solve with the whole Gram matrix.
+    Folding ``(C C^T)^-1`` (those rows only), ``C``, ``M``, ``K`` and ``T`` into one small matrix
+    per term once makes a sample a few products with ``len(rows)`` rows, instead of full-DOF
+    products and a solve with the whole Gram matrix.
     """
 
     rows: np.ndarray
-    inertia: np.ndarray  # (rows, n_free): G_rows C M T
-    stiffness: np.ndarray  # (rows, n_free): G_rows C K T
+    # sparse: a tie's rows touch the few DOFs near it (the reference bridge's: 2 % of the columns)
+    inertia: sp.csr_matrix  # (rows, n_free): G_rows C M T
+    stiffness: sp.csr_matrix  # (rows, n_free): G_rows C K T
     ground: np.ndarray  # (rows, 3): G_rows C M R
-    laws: np.ndarray  # (rows, m): G_rows C B^T
-    nodal: np.ndarray  # (rows, n_dof): G_rows C
+    laws: sp.csr_matrix  # (rows, m): G_rows C B^T
+    nodal: sp.csr_matrix  # (rows, n_dof): G_rows C
     support_inertia: np.ndarray | None = None  # (rows, k): G_rows C M Psi (differential support motion)
     support_stiffness: np.ndarray | None = None  # (rows, k): G_rows C K Psi
 
@@ -297,11 +302,11 @@ class MultiplierMap:
         GCM = GC @ system.M
         return cls(
             rows=rows,
-            inertia=np.asarray((GCM @ system.T).toarray()),
-            stiffness=np.asarray((GC @ system.K @ system.T).toarray()),
+            inertia=sp.csr_matrix(GCM @ system.T),
+            stiffness=sp.csr_matrix(GC @ system.K @ system.T),
             ground=np.asarray(GCM @ R),
-            laws=np.asarray((GC @ system.connectors.B.T).toarray()),
-            nodal=np.asarray(GC.toarray()),
+            laws=sp.csr_matrix(GC @ system.connectors.B.T),
+            nodal=sp.csr_matrix(GC),
             support_inertia=None if psi is None else np.asarray(GCM @ psi),
             support_stiffness=None if psi is None else np.asarray(GC @ (system.K @ psi)),
         )
@@ -392,8 +397,7 @@ class _Probe:
     ``_sample_many`` (a chunk, in time order) or ``_sample`` (one snapshot; the default
     ``_sample_many`` loops over it)."""
 
-    #: instants a probe holds before it evaluates them together (they keep the states alive)
-    CHUNK = 64
+    CHUNK = CHUNK
 
     def __init__(self, spec):
         self.spec = spec
@@ -443,6 +447,22 @@ def _section_force_map(ctx: Context, names: tuple[str, ...]) -> tuple[sp.csr_mat
     """``(L, F_dead, L_psi)``: section forces (elements x 2 x 6, flattened) = ``L x + L_psi delta + F_dead`` for
     ``x = q - q_0`` and the differential support motion ``delta`` (``L_psi`` None for uniform motion)."""
     sys = ctx.system
+    maps = _FORCE_MAPS.setdefault(sys, {})
+    if names not in maps:
+        maps[names] = _read_force_map(sys, names)
+    L_full, L = maps[names]
+    dead = section_forces(sys, ctx.preload.u, names, g=ctx.preload.g).values
+    dif = ctx.excitation.differential
+    return L, dead, None if dif is None else np.asarray(L_full @ dif.psi)
+
+
+#: per system (the runs of an experiment's cells share one): element names -> (L_full, L) of _read_force_map
+_FORCE_MAPS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _read_force_map(sys: System, names: tuple[str, ...]) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """The section forces of ``names`` as a linear map of the full displacements ``u`` (``L_full``) and
+    of the free ones (``L = L_full T``), read off the kernel one DOF at a time."""
     model = sys.model
     for n in names:
         model.element(n)
@@ -450,15 +470,13 @@ def _section_force_map(ctx: Context, names: tuple[str, ...]) -> tuple[sp.csr_mat
     dofs = np.concatenate([sys.dofmap.node_dofs(nd) for nd in sorted(nodes)])
     cols = []
     probe = np.zeros(sys.n_dof)
-    for dof in dofs:  # section forces are linear in u: read the map off the kernel, one DOF at a time
+    for dof in dofs:
         probe[dof] = 1.0
         cols.append(section_forces(sys, probe, names).values.reshape(-1))
         probe[dof] = 0.0
     L_dofs = sp.csr_matrix(np.column_stack(cols))
     L_full = sp.csr_matrix((L_dofs.data, dofs[L_dofs.indices], L_dofs.indptr), shape=(L_dofs.shape[0], sys.n_dof))
-    dead = section_forces(sys, ctx.preload.u, names, g=ctx.preload.g).values
-    dif = ctx.excitation.differential
-    return (L_full @ sys.T).tocsr(), dead, None if dif is None else np.asarray(L_full @ dif.psi)
+    return L_full, (L_full @ sys.T).tocsr()
 
 
 def _support_columns(ctx: Context, samples: Samples) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:

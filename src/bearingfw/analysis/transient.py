@@ -71,7 +71,7 @@ from bearingfw.analysis import hht
 from bearingfw.analysis.damping import Rayleigh
 from bearingfw.analysis.excitation import Excitation, build_excitation
 from bearingfw.analysis.history import TransientResult, energy_table
-from bearingfw.analysis.recorders import RESERVED_NAMES, Context, Samples, Snapshot
+from bearingfw.analysis.recorders import CHUNK, RESERVED_NAMES, Context, Samples, Snapshot
 from bearingfw.analysis.static import StaticResult, factorize, gravity
 from bearingfw.model import Model, ModelError, System, as_system
 from bearingfw.parameters import ParameterError, choice, integer_parameter, parameter
@@ -328,7 +328,10 @@ class _Run:
         length = plan.block if plan is not None else 0  # steps asked of the next compiled call
         while n < total:
             if plan is not None:
-                times = [(n + j) * h + h for j in range(min(length, total - n))]
+                ask = min(length, total - n)
+                if ask >= CHUNK:  # end where the recorders' chunks end: they take the run's arrays as they are
+                    ask -= (n + ask + 1) % CHUNK
+                times = [(n + j) * h + h for j in range(ask)]
                 loads = self.exc.loads(times)
                 self.attempt = times[0]
                 try:

@@ -23,6 +23,7 @@ its cells), the heatmaps and the chart once all are. Each file is written atomic
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import math
 import queue
@@ -324,14 +325,17 @@ PLOTS = {
 }
 
 
-def draw_figure(root: str, task: FigureTask, formats: Sequence[str] = ("png",), dpi: int = DEFAULT_DPI) -> list[str]:
+def draw_figure(root: str, task: FigureTask, formats: Sequence[str] = ("png",), dpi: int = DEFAULT_DPI,
+                read: Callable | None = None) -> list[str]:
     """Draw ``task`` into ``<root>/figures`` in ``formats``; return the paths written (none if its
-    histories are gone). A module-level function: worker processes run it."""
+    histories are gone). ``read(cell id)``: the cell's histories (default: read from the store). A
+    module-level function: worker processes run it."""
     from bearingfw.experiment.store import Store
 
     store = Store(root)
     if task.cells:
-        loaded = {m: store.read_histories(cell) for m, cell in task.cells}
+        read = read or store.read_histories
+        loaded = {m: read(cell) for m, cell in task.cells}
         cells = {m: h for m, h in loaded.items() if h is not None}
         if not cells:
             return []
@@ -561,6 +565,7 @@ class FigureDrawer:
                 continue
             if group is None:
                 return
+            read = functools.cache(self.store.read_histories)  # a group's figures show the same cells
             try:
                 for task, inputs in history_tasks(self.plan, self._cells(*group), *group):
                     if self._stopping.is_set():
@@ -568,7 +573,7 @@ class FigureDrawer:
                     if not self._drawer.needed(task.stem, inputs):
                         continue
                     start = time.perf_counter()
-                    if draw_figure(str(self.store.root), task, self.formats, self._drawer.context["dpi"]):
+                    if draw_figure(str(self.store.root), task, self.formats, self._drawer.context["dpi"], read):
                         self._done[task.stem] = self._drawer.index[task.stem]
                         if self.progress is not None:
                             self.progress.figure(task.stem, time.perf_counter() - start)

@@ -11,7 +11,6 @@ from typing import ClassVar
 
 import attrs
 import numpy as np
-from scipy.integrate import cumulative_trapezoid, trapezoid
 
 from bearingfw.motion.record import ROLES, G, Record
 from bearingfw.parameters import ParameterError, parameter
@@ -164,12 +163,16 @@ def husid(a, dt: float) -> np.ndarray:
     a, dt = np.atleast_2d(np.asarray(a, dtype=float)), _dt(dt)
     if a.shape[-1] < 2:
         raise ParameterError("acceleration must have at least 2 samples")
+    from scipy.integrate import cumulative_trapezoid  # here: scipy.integrate imports scipy.optimize (0.2 s)
+
     return math.pi / (2.0 * G) * cumulative_trapezoid(np.sum(a * a, axis=0), dx=dt, initial=0.0)
 
 
 def arias_intensity(a, dt: float) -> float:
     """Arias intensity ``I_a = pi/(2g) int a(t)^2 dt`` (m/s); rows of a 2-D ``a`` are summed."""
     a, dt = np.atleast_2d(np.asarray(a, dtype=float)), _dt(dt)
+    from scipy.integrate import trapezoid
+
     return float(math.pi / (2.0 * G) * trapezoid(np.sum(a * a, axis=0), dx=dt))
 
 

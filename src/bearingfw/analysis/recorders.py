@@ -52,6 +52,13 @@ balance the structure exactly).
 Keys: a recorder's ``name`` has no ``.`` and is none of :data:`RESERVED_NAMES`, and recorders in one
 run have distinct names, so keys never clash; an :class:`ElementStress` refuses an element named
 ``time`` (its key would be the recorder's sample times).
+
+A recorder of one's own is any object with ``label``, ``every`` and ``bind(context)`` (a
+:class:`Context`), which returns a probe: ``times`` (a list the run reads), ``sample(snapshot)``
+(a :class:`Snapshot`) and ``finish()`` (its arrays, with ``<label>.time``, and a description).
+A probe may also offer ``sample_many(samples)``: the time loop then hands it the instants of a
+run of compiled steps at once, as :class:`Samples` (arrays side by side), instead of one
+snapshot each; without it, or with a ``sample`` set on the instance, it sees every snapshot.
 """
 
 from __future__ import annotations

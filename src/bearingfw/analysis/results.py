@@ -135,21 +135,31 @@ def section_stresses(forces: np.ndarray, section: Section) -> Stresses:
     """Stresses from section forces ``(..., 6)`` (``SECTION_COMPONENTS`` order) at ``section.points``."""
     if not section.points:
         raise ModelError(f"section {section.name!r} has no recovery points")
-    f = np.asarray(forces, dtype=float)[..., None, :]
-    N, Vy, Vz, T, My, Mz = (f[..., k] for k in range(6))
+    f = np.asarray(forces, dtype=float)
+    if f.shape[-1:] != (6,):
+        raise ValueError(f"section_stresses: forces must have shape (..., 6), got {f.shape}")
     points = section.points
-    y = np.array([p.y for p in points])
-    z = np.array([p.z for p in points])
+    y = np.array([p.y for p in points], dtype=float)
+    z = np.array([p.z for p in points], dtype=float)
     r = np.hypot(y, z)
-    tau_T = _point_factor(points, "torsion_factor", r / section.J) * T
+    torsion = _point_factor(points, "torsion_factor", r / section.J)
     s_y = _point_factor(points, "shear_factor_y", 1.0 / (section.Avy if section.Avy is not None else section.A))
     s_z = _point_factor(points, "shear_factor_z", 1.0 / (section.Avz if section.Avz is not None else section.A))
-    safe_r = np.where(r > 0, r, 1.0)
-    tau_xy = s_y * Vy - np.where(r > 0, tau_T * z / safe_r, 0.0)
-    tau_xz = s_z * Vz + np.where(r > 0, tau_T * y / safe_r, 0.0)
-    tau = np.hypot(tau_xy, tau_xz) + np.where(r > 0, 0.0, np.abs(tau_T))
-    sigma = N / section.A + My * z / section.Iy - Mz * y / section.Iz
-    return Stresses(tuple(p.name for p in points), sigma, tau, principal_stress(sigma, tau))
+    # per point: tau_T = torsion T; tau_xy = s_y Vy - tau_T z / r, tau_xz = s_z Vz + tau_T y / r (at r = 0,
+    # |tau_T| adds to the shear instead); sigma = N / A + My z / Iy - Mz y / Iz; sigma1 by principal_stress
+    flat = np.ascontiguousarray(f.reshape(-1, 6))
+    sigma, tau, sigma1 = (np.empty((flat.shape[0], len(points))) for _ in range(3))
+    _stress_kernel().point_stresses(flat, y, z, r, torsion, s_y, s_z, float(section.A), float(section.Iy),
+                                    float(section.Iz), sigma, tau, sigma1)  # fmt: skip
+    shape = f.shape[:-1] + (len(points),)
+    return Stresses(tuple(p.name for p in points), sigma.reshape(shape), tau.reshape(shape), sigma1.reshape(shape))
+
+
+def _stress_kernel():
+    """:mod:`bearingfw.analysis.stress_kernel`, imported at the first use (it imports numba)."""
+    from bearingfw.analysis import stress_kernel
+
+    return stress_kernel
 
 
 def element_stresses(

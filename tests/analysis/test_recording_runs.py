@@ -208,3 +208,30 @@ def test_the_section_force_map_is_read_once_per_system(deck, monkeypatch):
     other = build_system(deck_model("regularized-coulomb", COULOMB))
     fresh = solve_transient(other, ag[:41], DT, preload=gravity(other), recorders=[ElementForces(names, name="f")])
     assert len(reads) == 2 and np.array_equal(fresh["f"], runs[0]["f"])
+
+
+def test_a_probe_with_slots_and_no_dict_is_recorded_like_any_other(deck):
+    """The loop asks whether a probe's ``sample`` was replaced on the instance; a probe with
+    ``__slots__`` (no instance dictionary) has none, and is sampled every step."""
+    system, pre, ag = deck
+
+    class Slotted:
+        __slots__ = ("label", "every", "times")
+
+        def __init__(self):
+            self.label, self.every, self.times = "slotted", 1, []
+
+        def sample(self, s):
+            self.times.append(s.t)
+
+        def finish(self):
+            return {"slotted.time": np.array(self.times)}, {}
+
+    class Spec:
+        label, every = "slotted", 1
+
+        def bind(self, ctx):
+            return Slotted()
+
+    res = solve_transient(system, ag[:61], DT, preload=pre, recorders=[Spec()])
+    assert np.array_equal(res["slotted.time"], res.time) and res.time.size == 61

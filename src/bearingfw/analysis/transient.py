@@ -426,7 +426,7 @@ class _Run:
 def _takes_samples(probe) -> bool:
     """Whether ``probe`` takes a run of instants at once: it has ``sample_many`` and its ``sample`` is
     its class's (one set on the instance, e.g. a wrapper, must see every instant)."""
-    return hasattr(type(probe), "sample_many") and "sample" not in vars(probe)
+    return hasattr(type(probe), "sample_many") and "sample" not in getattr(probe, "__dict__", {})
 
 
 class _LawStates(Sequence):

@@ -212,7 +212,7 @@ def test_the_section_force_map_is_read_once_per_system(deck, monkeypatch):
 
 def test_a_probe_with_slots_and_no_dict_is_recorded_like_any_other(deck):
     """The loop asks whether a probe's ``sample`` was replaced on the instance; a probe with
-    ``__slots__`` (no instance dictionary) has none, and is sampled every step."""
+    ``__slots__`` (no instance dictionary) has none, and takes the runs of steps at once."""
     system, pre, ag = deck
 
     class Slotted:
@@ -223,6 +223,9 @@ def test_a_probe_with_slots_and_no_dict_is_recorded_like_any_other(deck):
 
         def sample(self, s):
             self.times.append(s.t)
+
+        def sample_many(self, samples):
+            self.times.extend(samples.t.tolist())
 
         def finish(self):
             return {"slotted.time": np.array(self.times)}, {}

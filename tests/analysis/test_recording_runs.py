@@ -238,3 +238,79 @@ def test_a_probe_with_slots_and_no_dict_is_recorded_like_any_other(deck):
 
     res = solve_transient(system, ag[:61], DT, preload=pre, recorders=[Spec()])
     assert np.array_equal(res["slotted.time"], res.time) and res.time.size == 61
+
+
+def test_a_thinned_recorder_keeps_no_run_of_steps_alive(deck, monkeypatch):
+    """A probe that keeps every 50th step fills a chunk over 50 runs of steps: it must hold the sampled
+    instants only, never the runs' arrays (8 MB each on a large model)."""
+    import weakref
+
+    system, pre, ag = deck
+    live, most = [], [0]
+    real = hht.advance_steps
+
+    def tracked(*args, **kwargs):
+        out = real(*args, **kwargs)
+        live.append(weakref.ref(out[0]))
+        return out
+
+    def progress(_):
+        most[0] = max(most[0], sum(ref() is not None for ref in live))
+
+    monkeypatch.setattr(hht, "advance_steps", tracked)
+    monkeypatch.setattr(hht, "STEPS_BYTES", 8 * 14 * system.n_free * 70)  # runs of 64 steps, as at 1,000 DOFs
+    res = solve_transient(system, band_limited_noise(401, DT, seed=3, amplitude=[6.0, 4.0, 3.0]), DT, preload=pre,
+                          recorders=[ConnectorResponse(name="bearings", every=50)], progress=progress)
+    assert len(live) > 5 and res["bearings.time"].size == 9
+    assert 1 <= most[0] <= 2  # the run being recorded (and the one before it, not yet collected)
+
+
+def test_a_recorder_raising_in_a_run_of_steps_leaves_the_others_whole(deck):
+    """One probe's sample_many raises: the run stops, and the other recorders keep every step up to
+    where it stopped (no gap), as the partial result says."""
+    from bearingfw.analysis import TransientError
+
+    system, pre, ag = deck
+
+    class Failing(NodalResponse):
+        def bind(self, ctx):
+            probe = super().bind(ctx)
+
+            class Raising(type(probe)):
+                def sample_many(self, samples):
+                    if samples.t[-1] > 0.2:
+                        raise RuntimeError("recorder failed")
+                    super().sample_many(samples)
+
+            probe.__class__ = Raising
+            return probe
+
+    node = system.model.nodes[-1].name
+    with pytest.raises(TransientError, match="recorder failed") as info:
+        solve_transient(system, ag, DT, preload=pre, recorders=[Failing([node], name="n"),
+                                                                 ElementForces(["GA0"], name="f")])
+    kept = info.value.result
+    assert kept is not None and kept["f.time"][-1] == info.value.last_converged > 0.2
+    assert np.allclose(np.diff(kept["f.time"]), DT)
+
+
+def test_a_probe_class_overriding_sample_sees_every_instant(deck):
+    """A subclass that overrides ``sample`` but inherits ``sample_many`` gets each instant through its
+    own ``sample``, in compiled runs too."""
+    system, pre, ag = deck
+    seen = []
+
+    class Counting(ElementForces):
+        def bind(self, ctx):
+            probe = super().bind(ctx)
+
+            class Own(type(probe)):
+                def sample(self, s):
+                    seen.append(s.t)
+                    super().sample(s)
+
+            probe.__class__ = Own
+            return probe
+
+    res = solve_transient(system, ag[:81], DT, preload=pre, recorders=[Counting(["GA0"], name="f")])
+    assert seen == res["f.time"].tolist() and len(seen) == 81

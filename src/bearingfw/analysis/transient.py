@@ -396,11 +396,14 @@ class _Run:
         self.energy_times.extend(times)
         self.energy_rows.extend(steps.energy_rows()[:done])
         numbers = np.arange(n + 1, n + 1 + done)
-        for probe in self.probes:
+        for probe in self.probes:  # every probe gets the run, even after one raised: no gaps in the others
             if probe not in singles:
                 due = np.flatnonzero(numbers % probe.every == 0)
                 if due.size:
-                    probe.sample_many(samples if due.size == steps.done else samples.take(due))
+                    try:
+                        probe.sample_many(samples if due.size == steps.done else samples.take(due))
+                    except Exception as exc:  # noqa: BLE001 - raised below, after the other probes
+                        failure = failure or exc
         if failure is not None:
             raise failure
         return self.last
@@ -424,22 +427,36 @@ class _Run:
 
 
 def _takes_samples(probe) -> bool:
-    """Whether ``probe`` takes a run of instants at once: it has ``sample_many`` and its ``sample`` is
-    its class's (one set on the instance, e.g. a wrapper, must see every instant)."""
-    return hasattr(type(probe), "sample_many") and "sample" not in getattr(probe, "__dict__", {})
+    """Whether ``probe`` takes a run of instants at once: it has ``sample_many``, and its ``sample`` is
+    not newer than that (a ``sample`` set on the instance, e.g. a wrapper, or overridden in a subclass
+    that inherits ``sample_many``, must see every instant)."""
+    if "sample" in getattr(probe, "__dict__", {}):
+        return False
+    mro = type(probe).__mro__
+
+    def owner(name):
+        return next((k for k, cls in enumerate(mro) if name in vars(cls)), None)
+
+    many, one = owner("sample_many"), owner("sample")
+    return many is not None and (one is None or one >= many)
 
 
 class _LawStates(Sequence):
-    """The law states of each step of a compiled run, unpacked when read (:meth:`hht.Steps.law_states`)."""
+    """The law states of each step of a compiled run, unpacked when read (:meth:`hht.Steps.law_states`).
+
+    It keeps the packed states only, not the run's other arrays: a probe that keeps every k-th
+    step holds these until its chunk is full, k runs later."""
 
     def __init__(self, steps: hht.Steps):
-        self.steps = steps
+        self.unpack = steps.plan.p.compiled.unpack if steps.plan.mode == hht._steps().NEWTON else None
+        self.packed, self.start, self.done = steps.packed, steps.start_law_states, steps.done
 
     def __len__(self) -> int:
-        return self.steps.done
+        return self.done
 
     def __getitem__(self, j: int) -> tuple:
-        return self.steps.law_states(range(self.steps.done)[j])  # an IndexError past the end
+        j = range(self.done)[j]  # an IndexError past the end
+        return self.start if self.unpack is None else self.unpack(self.packed[j])
 
 
 class _Failed(Exception):

@@ -1364,6 +1364,23 @@ def steps_plan(p: Problem, op: Operator) -> StepsPlan | None:
     return StepsPlan(p, op, mode, operands, block)
 
 
+class LawStates(Sequence):
+    """The law states after each step of a compiled run, unpacked when read (``unpack`` of the packed
+    rows; None: the laws are not iterated, every step has the ``start`` states). It keeps the
+    packed states only, not the run's other arrays: a recorder that keeps every k-th step holds it
+    until its chunk is full, k runs later."""
+
+    def __init__(self, unpack: Callable | None, packed: np.ndarray, start: tuple):
+        self.unpack, self.packed, self.start = unpack, packed, start
+
+    def __len__(self) -> int:
+        return self.packed.shape[0]
+
+    def __getitem__(self, j: int) -> tuple:
+        j = range(len(self))[j]  # an IndexError past the end
+        return self.start if self.unpack is None else self.unpack(self.packed[j])
+
+
 @attrs.frozen(eq=False)
 class Steps(Sequence):
     """What a run of compiled steps reached (:func:`advance_steps`), one row per finished step: the
@@ -1412,11 +1429,11 @@ class Steps(Sequence):
     def ae(self) -> np.ndarray:
         return self.out[:, 13]
 
-    def law_states(self, j: int) -> tuple:
-        """The law states after step ``j``."""
-        if self.plan.mode == _steps().NEWTON:
-            return self.plan.p.compiled.unpack(self.packed[j])
-        return self.start_law_states
+    @property
+    def law_states(self) -> LawStates:
+        """The law states after each step, unpacked when read."""
+        unpack = self.plan.p.compiled.unpack if self.plan.mode == _steps().NEWTON else None
+        return LawStates(unpack, self.packed, self.start_law_states)
 
     def energy_rows(self) -> list[tuple[float, ...]]:
         """:meth:`Energy.row` of every step."""
@@ -1432,7 +1449,7 @@ class Steps(Sequence):
         out = self.out[j].copy()
         xva = out[0:3]
         products = out[3:9].reshape(2, 3, n)
-        law_states = self.law_states(j)
+        law_states = self.law_states[j]
         row = self.energy[j]
         energy = Energy(row[0], row[1], row[2], row[3], row[4], row[6])
         linearised = (None, None, None)

@@ -361,7 +361,7 @@ class _Run:
         progress callback, see each step in turn. Where one of those raises at a step, the run ends
         there, as the step-by-step loop would: the steps after it are not taken."""
         singles = [p for p in self.probes if not _takes_samples(p)]
-        samples = self._samples(steps)
+        samples = self._samples(steps) if self.probes else None
         done, failure = steps.done, None
         if singles or self.progress is not None:
             for j in range(done):
@@ -413,7 +413,7 @@ class _Run:
         ground = self.exc.grounds(steps.times)
         nodal = [self.exc.nodal(t) for t in steps.times.tolist()]
         return Samples(
-            _LawStates(steps), t=steps.times, x=steps.x, v=steps.v, a=steps.a, f=steps.f,
+            steps.law_states, t=steps.times, x=steps.x, v=steps.v, a=steps.a, f=steps.f,
             ground_acceleration=ground[0], ground_velocity=ground[1],
             nodal=None if nodal[0] is None else np.array(nodal), d=steps.d, a_equilibrium=steps.ae,
         )  # fmt: skip
@@ -439,24 +439,6 @@ def _takes_samples(probe) -> bool:
 
     many, one = owner("sample_many"), owner("sample")
     return many is not None and (one is None or one >= many)
-
-
-class _LawStates(Sequence):
-    """The law states of each step of a compiled run, unpacked when read (:meth:`hht.Steps.law_states`).
-
-    It keeps the packed states only, not the run's other arrays: a probe that keeps every k-th
-    step holds these until its chunk is full, k runs later."""
-
-    def __init__(self, steps: hht.Steps):
-        self.unpack = steps.plan.p.compiled.unpack if steps.plan.mode == hht._steps().NEWTON else None
-        self.packed, self.start, self.done = steps.packed, steps.start_law_states, steps.done
-
-    def __len__(self) -> int:
-        return self.done
-
-    def __getitem__(self, j: int) -> tuple:
-        j = range(self.done)[j]  # an IndexError past the end
-        return self.start if self.unpack is None else self.unpack(self.packed[j])
 
 
 class _Failed(Exception):
